@@ -1,0 +1,43 @@
+# Compile settings shared by every strata target, through one interface target.
+add_library(strata_compile_options INTERFACE)
+target_compile_features(strata_compile_options INTERFACE cxx_std_20)
+target_compile_options(strata_compile_options INTERFACE
+  $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wno-unused-parameter>
+  $<$<AND:$<CXX_COMPILER_ID:GNU,Clang>,$<CONFIG:Release>>:-O3>)
+if(STRATA_NATIVE)
+  target_compile_options(strata_compile_options INTERFACE $<$<CXX_COMPILER_ID:GNU,Clang>:-march=native>)
+endif()
+if(STRATA_SANITIZE)
+  target_compile_options(strata_compile_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
+                         -fno-sanitize-recover=undefined)
+  target_link_options(strata_compile_options INTERFACE -fsanitize=address,undefined)
+endif()
+install(TARGETS strata_compile_options EXPORT strataTargets)
+
+# strata_add_library(NAME dem SOURCES ... DEPS ...): target strata_<name>, alias strata::<name>,
+# public headers in <dir>/include/strata/<name>/.
+function(strata_add_library)
+  cmake_parse_arguments(A "" "NAME" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  set(t strata_${A_NAME})
+  if(A_SOURCES)
+    add_library(${t} ${A_SOURCES})
+    set(scope PUBLIC)
+  else()
+    add_library(${t} INTERFACE)
+    set(scope INTERFACE)
+  endif()
+  add_library(strata::${A_NAME} ALIAS ${t})
+  set_target_properties(${t} PROPERTIES EXPORT_NAME ${A_NAME} OUTPUT_NAME strata_${A_NAME})
+  target_include_directories(${t} ${scope}
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(${t} ${scope} strata_compile_options ${A_PUBLIC_DEPS})
+  if(A_PRIVATE_DEPS AND A_SOURCES)
+    target_link_libraries(${t} PRIVATE ${A_PRIVATE_DEPS})
+  endif()
+  install(TARGETS ${t} EXPORT strataTargets
+          ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endfunction()

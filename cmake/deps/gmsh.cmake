@@ -1,0 +1,10 @@
+# Debian's libgmsh-dev ships gmsh.h and libgmsh.so without a CMake package.
+set(STRATA_HAVE_GMSH 0)
+if(STRATA_WITH_GMSH)
+  find_path(GMSH_INCLUDE_DIR gmsh.h REQUIRED)
+  find_library(GMSH_LIBRARY gmsh REQUIRED)
+  add_library(strata_gmsh INTERFACE IMPORTED)
+  target_include_directories(strata_gmsh INTERFACE ${GMSH_INCLUDE_DIR})
+  target_link_libraries(strata_gmsh INTERFACE ${GMSH_LIBRARY})
+  set(STRATA_HAVE_GMSH 1)
+endif()

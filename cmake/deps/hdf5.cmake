@@ -1,0 +1,5 @@
+set(STRATA_HAVE_HDF5 0)
+if(STRATA_WITH_HDF5)
+  find_package(HDF5 REQUIRED COMPONENTS C)
+  set(STRATA_HAVE_HDF5 1)
+endif()

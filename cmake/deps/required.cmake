@@ -1,0 +1,7 @@
+# Required everywhere: fmt/spdlog for messages, toml++ for scene files, CLI11 for the command
+# line, Eigen for small dense algebra and sparse matrices.
+find_package(fmt REQUIRED)
+find_package(spdlog REQUIRED)
+find_package(tomlplusplus REQUIRED)
+find_package(CLI11 REQUIRED)
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)

@@ -1,0 +1,18 @@
+set(STRATA_HAVE_VTK 0)
+set(STRATA_HAVE_RENDER 0)
+if(STRATA_WITH_RENDER AND NOT STRATA_WITH_VTK)
+  message(FATAL_ERROR "STRATA_WITH_RENDER needs STRATA_WITH_VTK")
+endif()
+if(STRATA_WITH_VTK)
+  set(_vtk_components CommonCore CommonDataModel IOXML IOLegacy)
+  if(STRATA_WITH_RENDER)
+    list(APPEND _vtk_components RenderingCore RenderingOpenGL2 RenderingAnnotation RenderingContext2D
+         RenderingContextOpenGL2 RenderingFreeType InteractionStyle ChartsCore ViewsContext2D IOImage
+         FiltersSources FiltersCore FiltersGeneral)
+  endif()
+  find_package(VTK 9.1 REQUIRED COMPONENTS ${_vtk_components})
+  set(STRATA_HAVE_VTK 1)
+  if(STRATA_WITH_RENDER)
+    set(STRATA_HAVE_RENDER 1)
+  endif()
+endif()

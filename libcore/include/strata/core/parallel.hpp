@@ -1,0 +1,73 @@
+#pragma once
+/// The one place in strata that knows about OpenMP (STYLE.md §4).
+///
+/// Every loop is statically scheduled and every reduction is summed in a fixed order over
+/// fixed-size blocks, so results are bit-for-bit identical for any number of threads.
+#include <strata/config.hpp>
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#if STRATA_WITH_OPENMP
+#include <omp.h>
+#endif
+
+namespace strata::par {
+
+/// Number of threads parallel loops use.
+int threads();
+/// Sets the number of threads parallel loops use; n <= 0 means all hardware threads.
+void set_threads(int n);
+/// Hardware threads available.
+int hardware_threads();
+
+/// Calls f(i) for i in [0, n), statically split over the threads.
+template <typename F>
+void parallel_for(std::ptrdiff_t n, F&& f) {
+#if STRATA_WITH_OPENMP
+#pragma omp parallel for schedule(static) if (n > 256)
+  for (std::ptrdiff_t i = 0; i < n; ++i) f(i);
+#else
+  for (std::ptrdiff_t i = 0; i < n; ++i) f(i);
+#endif
+}
+
+/// Calls f(begin, end) once per thread on contiguous, statically assigned ranges of [0, n).
+template <typename F>
+void parallel_ranges(std::ptrdiff_t n, F&& f) {
+#if STRATA_WITH_OPENMP
+  if (n > 256) {
+#pragma omp parallel
+    {
+      const std::ptrdiff_t nt = omp_get_num_threads(), t = omp_get_thread_num();
+      const std::ptrdiff_t b = n * t / nt, e = n * (t + 1) / nt;
+      if (b < e) f(b, e);
+    }
+    return;
+  }
+#endif
+  if (n > 0) f(std::ptrdiff_t{0}, n);
+}
+
+/// Block size of deterministic reductions: partial sums are formed per block of this many
+/// items and added in block order, whatever the thread count.
+inline constexpr std::ptrdiff_t kReduceBlock = 4096;
+
+/// Sum of f(i) over [0, n), bit-for-bit the same for any number of threads.
+template <typename T, typename F>
+T parallel_sum(std::ptrdiff_t n, F&& f) {
+  const std::ptrdiff_t nb = (n + kReduceBlock - 1) / kReduceBlock;
+  std::vector<T> partial(static_cast<std::size_t>(nb), T{});
+  parallel_for(nb, [&](std::ptrdiff_t b) {
+    T s{};
+    const std::ptrdiff_t e = std::min(n, (b + 1) * kReduceBlock);
+    for (std::ptrdiff_t i = b * kReduceBlock; i < e; ++i) s += f(i);
+    partial[static_cast<std::size_t>(b)] = s;
+  });
+  T total{};
+  for (const T& s : partial) total += s;
+  return total;
+}
+
+}  // namespace strata::par

@@ -1,0 +1,71 @@
+#include <gtest/gtest.h>
+#include <strata/config.hpp>
+#include <strata/core/error.hpp>
+#include <strata/core/parallel.hpp>
+
+#include <cmath>
+
+using namespace strata;
+
+TEST(Error, KindDecidesExitStatus) {
+  EXPECT_EQ(Error(ErrorKind::Input, "x").exit_status(), 2);
+  EXPECT_EQ(Error(ErrorKind::Unsupported, "x").exit_status(), 2);
+  EXPECT_EQ(Error(ErrorKind::Numerical, "x").exit_status(), 1);
+  EXPECT_EQ(Error(ErrorKind::IO, "x").exit_status(), 1);
+}
+
+TEST(Error, CheckThrowsWithFormattedValues) {
+  try {
+    const double kn = -5;
+    STRATA_CHECK(kn > 0, Input, "kn = {} must be > 0 (N/m)", kn);
+    FAIL() << "STRATA_CHECK did not throw";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Input);
+    EXPECT_STREQ(e.what(), "kn = -5 must be > 0 (N/m)");
+  }
+}
+
+TEST(Error, MissingFeatureNamesTheOption) {
+  try {
+    fail_missing_feature("STRATA_WITH_GMSH", "reading .geo files");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.exit_status(), 2);
+    EXPECT_NE(std::string(e.what()).find("-DSTRATA_WITH_GMSH=ON"), std::string::npos);
+  }
+}
+
+// A reduction must not depend on the thread count: sum values whose rounding depends on
+// the order of addition, with 1, 2 and 3 threads, and require identical bits.
+TEST(Parallel, SumIsBitIdenticalForAnyThreadCount) {
+  const std::ptrdiff_t n = 1'000'003;
+  auto term = [](std::ptrdiff_t i) { return std::sin(0.001 * double(i)) * 1e-3 + 1.0 / double(i + 1); };
+  std::vector<double> sums;
+  for (int t : {1, 2, 3}) {
+    par::set_threads(t);
+    sums.push_back(par::parallel_sum<double>(n, term));
+  }
+  par::set_threads(0);
+  EXPECT_EQ(sums[0], sums[1]);
+  EXPECT_EQ(sums[0], sums[2]);
+  // And it is the sum (within rounding): compare with a serial Kahan sum.
+  double s = 0, c = 0;
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const double y = term(i) - c, t = s + y;
+    c = (t - s) - y;
+    s = t;
+  }
+  EXPECT_NEAR(sums[0], s, 1e-9 * std::abs(s));
+}
+
+TEST(Parallel, RangesCoverEveryIndexOnce) {
+  for (int t : {1, 2, 3}) {
+    par::set_threads(t);
+    std::vector<int> hits(10007, 0);
+    par::parallel_ranges(std::ptrdiff_t(hits.size()), [&](std::ptrdiff_t b, std::ptrdiff_t e) {
+      for (auto i = b; i < e; ++i) hits[std::size_t(i)] += 1;
+    });
+    for (int h : hits) ASSERT_EQ(h, 1);
+  }
+  par::set_threads(0);
+}
