@@ -13,6 +13,8 @@ if(STRATA_WITH_VTK)
   find_package(VTK 9.1 REQUIRED COMPONENTS ${_vtk_components})
   set(STRATA_HAVE_VTK 1)
   if(STRATA_WITH_RENDER)
+    # ensure_display() opens a test connection to $DISPLAY with Xlib (VTK links it anyway).
+    find_package(X11 REQUIRED)
     set(STRATA_HAVE_RENDER 1)
   endif()
 endif()

@@ -18,6 +18,7 @@ struct SourcePos {
   std::string file;  ///< scene file path as given, or "--set" for overrides
   int line = 0;      ///< 1-based; 0 when unknown
   int column = 0;    ///< 1-based; 0 when unknown
+  std::string setting;  ///< for overrides: the "key=value" text as given to `--set`
   /// "scene.toml:42:17" (or "--set solver.dt=1" for an override)
   std::string str() const;
 };
@@ -49,7 +50,12 @@ struct KeySpec {
   bool min_exclusive = false;  ///< min is a strict bound (> instead of >=)
   bool max_exclusive = false;
   std::vector<std::string> choices;  ///< for Choice and StringList elements (empty: any)
-  int length_min = 0, length_max = 0;  ///< for lists; 0 means unbounded
+  int length_min = 0, length_max = 0;  ///< for lists; for RealTable, of each row; 0: unbounded
+  /// One component per axis: a RealList (or each RealTable row) must have as many entries as
+  /// [scene].dimension; a StringList may only name axes of that dimension. List defaults are
+  /// written for 3D and cut to the dimension.
+  bool per_axis = false;
+  bool allow_inf = false;  ///< a Real that accepts `inf` (e.g. "never breaks")
 };
 
 /// One declared table: a plain table ([solver]) or an array of tables ([[region]]).
@@ -66,6 +72,12 @@ const std::vector<TableSpec>& schema();
 
 /// docs/scene-reference.md, generated from schema().
 std::string reference_markdown();
+
+/// Text shared by error messages and the reference (schema.cpp).
+/// "> 0", ">= 0 and < 1", "2 or 3"; "" when the key has no numeric bounds.
+std::string range_text(const KeySpec& key);
+/// "real", "list of reals", ... as the reference's type column shows it.
+std::string type_name(Type type);
 
 /// A stored, validated value.
 struct Value {

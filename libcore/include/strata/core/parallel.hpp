@@ -70,4 +70,27 @@ T parallel_sum(std::ptrdiff_t n, F&& f) {
   return total;
 }
 
+/// Runs f(thread, team_size) once on each of `nthreads` threads of one team (f(0, 1) when
+/// nthreads <= 1 or without OpenMP). Inside f, threads may meet at team_barrier(). The team
+/// may be smaller than asked for (OpenMP is allowed to give fewer threads): f must check
+/// team_size and cope.
+template <typename F>
+void parallel_team(int nthreads, F&& f) {
+#if STRATA_WITH_OPENMP
+  if (nthreads > 1) {
+#pragma omp parallel num_threads(nthreads)
+    f(omp_get_thread_num(), omp_get_num_threads());
+    return;
+  }
+#endif
+  f(0, 1);
+}
+
+/// Barrier of the team running inside parallel_team (no-op outside one).
+inline void team_barrier() {
+#if STRATA_WITH_OPENMP
+#pragma omp barrier
+#endif
+}
+
 }  // namespace strata::par

@@ -1,0 +1,106 @@
+// `strata bench dem`: see bench_dem.hpp.
+#include "bench_dem.hpp"
+
+#include <strata/core/error.hpp>
+#include <strata/core/parallel.hpp>
+#include <strata/dem/simulation.hpp>
+#include <strata/preprocess/lattice.hpp>
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+
+namespace strata::app {
+namespace {
+
+/// A field of /proc/self/status in bytes (VmRSS, VmHWM); 0 when unavailable.
+double proc_status_bytes(const char* key) {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (!f) return 0;
+  char line[256];
+  double kb = 0;
+  const std::size_t n = std::strlen(key);
+  while (std::fgets(line, sizeof line, f))
+    if (std::strncmp(line, key, n) == 0 && line[n] == ':') {
+      kb = std::atof(line + n + 1);
+      break;
+    }
+  std::fclose(f);
+  return kb * 1024.0;
+}
+
+}  // namespace
+
+std::string bench_dem_json(const BenchDemOptions& o) {
+  STRATA_CHECK(o.dim == 2 || o.dim == 3, Input, "bench dem: --dim {} must be 2 or 3", o.dim);
+  STRATA_CHECK(o.particles >= 16, Input, "bench dem: --particles {} must be >= 16", o.particles);
+  STRATA_CHECK(o.steps >= 1, Input, "bench dem: --steps {} must be >= 1", o.steps);
+  STRATA_CHECK(o.lattice == "hcp" || o.lattice == "fcc", Input, "bench dem: lattice '{}' must be hcp or fcc",
+               o.lattice);
+  if (o.threads > 0) par::set_threads(o.threads);
+  const int threads = par::threads();
+  const double rss0 = proc_status_bytes("VmRSS");
+  const auto t0 = std::chrono::steady_clock::now();
+
+  // SPEC C1 micro-parameters; 3D uses the same springs with ρ in kg/m³.
+  const double d = 1e-3;
+  dem::Material m;
+  m.density = 2.65e3;
+  m.kn = 6.587e10;
+  m.ks = 2.371e10;
+  m.friction = 0.239;
+  m.tensile_strength = 1.252e4;
+  m.shear_strength = 3.690e4;
+  dem::Settings s;
+  s.dt = 1e-15;  // replaced by 0.5·critical_dt below
+  s.damping = dem::Settings::Damping::Viscous;
+  s.viscous_c = 1.16e3;
+  s.contact_detection = true;
+
+  preprocess::Lattice lat;
+  const double side = preprocess::box_side_for(o.dim, o.particles, d);
+  if (o.dim == 2)
+    lat = preprocess::hex2d_box(0, 0, side, side, d);
+  else
+    lat = preprocess::close_packed_box(o.lattice == "hcp" ? preprocess::Packing::HCP : preprocess::Packing::FCC,
+                                       {0, 0, 0}, {side, side, side}, d);
+  const auto top = preprocess::top_row(lat), bottom = preprocess::bottom_row(lat);
+
+  dem::Simulation sim(o.dim, s);
+  const int mat = sim.add_material(m);
+  sim.reserve(lat.size());
+  for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
+  const std::size_t n = lat.size();
+  lat.release();
+  sim.add_to_group(top, "top");
+  sim.add_to_group(bottom, "bottom");
+  // platens move inward at 0.5 m/s (axial strain rate about 1/side per second)
+  const unsigned ax = o.dim == 2 ? dem::kY : dem::kZ;
+  std::array<double, 3> vt{0, 0, 0}, vb{0, 0, 0};
+  vt[o.dim - 1] = -0.5;
+  vb[o.dim - 1] = 0.5;
+  sim.prescribe_velocity("top", vt, ax);
+  sim.prescribe_velocity("bottom", vb, ax);
+  sim.bond_touching_pairs();
+  sim.initialise();
+  sim.set_dt(0.5 * sim.critical_dt());
+  const auto t1 = std::chrono::steady_clock::now();
+  sim.run(o.steps);
+  const auto t2 = std::chrono::steady_clock::now();
+  const double secs = std::chrono::duration<double>(t2 - t1).count();
+  const double setup = std::chrono::duration<double>(t1 - t0).count();
+  const double hwm = proc_status_bytes("VmHWM");
+  const double nn = static_cast<double>(n);
+  return fmt::format(
+      "{{\"dim\": {}, \"lattice\": \"{}\", \"particles\": {}, \"bonds\": {}, \"steps\": {}, \"threads\": {}, "
+      "\"seconds\": {:.6g}, \"particle_steps_per_s\": {:.6g}, \"bytes_per_particle\": {:.1f}, "
+      "\"model_bytes_per_particle\": {:.1f}, \"dt\": {:.6g}, \"dt_over_dt_crit\": {:.4g}, \"broken_bonds\": {}, "
+      "\"contacts\": {}, \"setup_seconds\": {:.4g}}}",
+      o.dim, o.dim == 2 ? "hex" : o.lattice, n, sim.bond_count(), o.steps, threads, secs,
+      nn * static_cast<double>(o.steps) / secs, (hwm - rss0) / nn, static_cast<double>(sim.memory_bytes()) / nn,
+      sim.dt(), sim.dt() / sim.critical_dt(), sim.broken_count(), sim.contact_count(), setup);
+}
+
+}  // namespace strata::app

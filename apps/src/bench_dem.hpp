@@ -1,0 +1,24 @@
+#pragma once
+/// `strata bench dem`: throughput and memory of the DEM step loop on a lattice block under
+/// slow uniaxial compression (C1 micro-parameters, breakable bonds, contact search on).
+#include <cstdint>
+#include <string>
+
+namespace strata::app {
+
+struct BenchDemOptions {
+  int dim = 2;                     ///< 2 (hex disks) or 3 (close-packed spheres)
+  std::int64_t particles = 16611;  ///< about this many particles (a square/cubic block)
+  std::int64_t steps = 1000;       ///< steps timed
+  int threads = 0;                 ///< 0: all hardware threads
+  std::string lattice = "hcp";     ///< 3D packing: "hcp" or "fcc"
+};
+
+/// Builds the block, runs the steps and returns one JSON object: dim, lattice, particles,
+/// bonds, steps, threads, seconds (stepping only), particle_steps_per_s, bytes_per_particle
+/// (peak RSS of the process minus the RSS before the model was built, per particle),
+/// model_bytes_per_particle (Simulation::memory_bytes()/N), dt, dt_over_dt_crit,
+/// broken_bonds, contacts, setup_seconds.
+std::string bench_dem_json(const BenchDemOptions& options);
+
+}  // namespace strata::app

@@ -1,0 +1,302 @@
+#include "model_builder.hpp"
+
+#include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
+#include <strata/preprocess/fill.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace strata::app {
+namespace {
+
+using preprocess::Lattice;
+using preprocess::Shape;
+
+int axis_index(const std::string& a) { return a == "x" ? 0 : a == "y" ? 1 : 2; }
+
+unsigned axes_mask(const std::vector<std::string>& axes, int dim) {
+  unsigned m = 0;
+  for (const auto& a : axes) m |= 1u << axis_index(a);
+  return m & (dim == 2 ? dem::kXY : dem::kXYZ);
+}
+
+std::array<double, 3> vec3(const std::vector<double>& v) {
+  std::array<double, 3> out{0, 0, 0};
+  for (std::size_t a = 0; a < v.size() && a < 3; ++a) out[a] = v[a];
+  return out;
+}
+
+Shape shape_of(const scene::Table& r, int dim) {
+  Shape s;
+  s.dim = dim;
+  const std::string& kind = r.str("shape");
+  if (kind == "box") {
+    s.kind = Shape::Kind::Box;
+    s.origin = vec3(r.reals("origin"));
+    s.size = vec3(r.reals("size"));
+  } else if (kind == "disk" || kind == "sphere") {
+    s.kind = kind == "disk" ? Shape::Kind::Disk : Shape::Kind::Sphere;
+    s.center = vec3(r.reals("center"));
+    s.radius = r.real("radius");
+    if (dim == 3 && kind == "disk") r.fail("shape", "a disk is a 2D shape; use \"sphere\" in 3D");
+  } else if (kind == "polygon") {
+    s.kind = Shape::Kind::Polygon;
+    if (dim == 3) r.fail("shape", "a polygon is a 2D shape; 3D regions are boxes, spheres or geometry files");
+    for (const auto& p : r.real_table("points")) s.polygon.push_back({p[0], p[1]});
+    if (s.polygon.size() < 3) r.fail("points", "a polygon needs at least 3 points");
+  } else {
+    // Geometry files are read by the preprocess geometry readers (gmsh, CGAL).
+    r.fail("shape",
+           "shape = \"file\" (geometry files) is not available in this version of strata; "
+           "allowed here: box, disk, sphere, polygon");
+  }
+  return s;
+}
+
+preprocess::LatticeKind lattice_of(const scene::Table& r, int dim, std::string& name) {
+  name = r.str("lattice");
+  if (name == "auto") name = dim == 2 ? "hex" : "hcp";
+  if (dim == 2 && name != "hex") r.fail("lattice", "a 2D region is a hexagonal lattice: use \"hex\" (or auto)");
+  if (dim == 3 && name == "hex") r.fail("lattice", "a 3D region is close packed: use \"hcp\" or \"fcc\" (or auto)");
+  return name == "hex" ? preprocess::LatticeKind::Hex2D
+         : name == "hcp" ? preprocess::LatticeKind::HCP
+                         : preprocess::LatticeKind::FCC;
+}
+
+std::vector<std::uint32_t> select(const scene::Table& g, const Lattice& l) {
+  const std::string& sel = g.str("select");
+  if (sel == "all") {
+    std::vector<std::uint32_t> all(l.size());
+    for (std::size_t i = 0; i < l.size(); ++i) all[i] = std::uint32_t(i);
+    return all;
+  }
+  if (sel == "top_row") return preprocess::top_row(l);
+  if (sel == "bottom_row") return preprocess::bottom_row(l);
+  if (sel == "top_layer") return preprocess::top_layer(l);
+  if (sel == "bottom_layer") return preprocess::bottom_layer(l);
+  if (sel == "left_column") return preprocess::left_column(l);
+  if (sel == "right_column") return preprocess::right_column(l);
+  // box
+  return preprocess::in_box(l, vec3(g.reals("box_min")), vec3(g.reals("box_max")));
+}
+
+double platen_distance(const BuiltModel& m);
+}  // namespace
+
+BuiltModel build_model(const scene::Scene& sc, bool force) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const scene::Table& st = sc.table("scene");
+  const scene::Table& solver = sc.table("solver");
+  const int dim = int(st.integer("dimension"));
+
+  dem::Settings set;
+  set.dt = solver.real("dt");
+  set.allow_unstable = true;  // dt is checked below, against the scene, with a scene position
+  const std::string& damping = solver.str("damping");
+  set.damping = damping == "viscous" ? dem::Settings::Damping::Viscous
+                : damping == "local" ? dem::Settings::Damping::Local
+                                     : dem::Settings::Damping::None;
+  set.viscous_c = solver.real("viscous_c");
+  set.local_alpha = solver.real("local_damping");
+  set.gravity = vec3(solver.reals("gravity"));
+  // Contact search only where new contacts can form: between particles whose bonds can
+  // break, between regions, or against walls. "on"/"off" override.
+  bool breakable = false;
+  for (const auto& t : sc.tables("material"))
+    breakable |= std::isfinite(t.real("tensile_strength")) || std::isfinite(t.real("shear_strength"));
+  const std::string& cd = solver.str("contact_detection");
+  set.contact_detection = cd == "on" || (cd == "auto" && (breakable || sc.tables("region").size() > 1 ||
+                                                          !sc.tables("wall").empty()));
+
+  BuiltModel m{dim, dem::Simulation(dim, set)};
+  dem::Simulation& sim = m.sim;
+
+  std::map<std::string, int> material_id;
+  double max_kn = 0;
+  for (const auto& t : sc.tables("material")) {
+    dem::Material mat;
+    mat.density = t.real("density");
+    mat.kn = t.real("kn");
+    mat.ks = t.real("ks");
+    mat.friction = t.real("friction");
+    mat.tensile_strength = t.real("tensile_strength");
+    mat.shear_strength = t.real("shear_strength");
+    mat.friction_strengthens_bonds = t.boolean("friction_strengthens_bonds");
+    max_kn = std::max(max_kn, mat.kn);
+    material_id[t.str("name")] = sim.add_material(mat);
+  }
+
+  // Regions: fill each shape with its lattice; remember each region's lattice for groups.
+  struct Filled {
+    Lattice lattice;
+    std::uint32_t first_id = 0;
+  };
+  std::map<std::string, Filled> filled;
+  for (const auto& r : sc.tables("region")) {
+    if (r.str("kind") == "fem")
+      r.fail("kind", "FEM regions are not available in this version of strata; allowed here: particles");
+    RegionInfo info;
+    info.name = r.str("name");
+    const Shape shape = shape_of(r, dim);
+    const auto kind = lattice_of(r, dim, info.lattice);
+    info.diameter = r.real("diameter");
+    Filled f;
+    f.lattice = preprocess::fill_shape(shape, kind, info.diameter, r.real("orientation"));
+    if (f.lattice.size() == 0)
+      r.fail("diameter", fmt::format("region '{}' holds no particle of diameter {} m: the shape is smaller "
+                                     "than one particle",
+                                     info.name, info.diameter));
+    f.first_id = std::uint32_t(sim.particle_count());
+    const int mat = material_id.at(r.str("material"));
+    const double rad = info.diameter / 2;
+    sim.reserve(sim.particle_count() + f.lattice.size());
+    for (const auto& x : f.lattice.x) sim.add_particle(x, rad, mat);
+    info.particles = f.lattice.size();
+    info.measure = shape.measure();
+    const double one = dim == 2 ? M_PI * rad * rad : 4.0 / 3.0 * M_PI * rad * rad * rad;
+    info.packing = info.particles * one / info.measure;
+    // Every region is also a group of its own name.
+    std::vector<std::uint32_t> ids(info.particles);
+    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = f.first_id + std::uint32_t(i);
+    sim.add_to_group(ids, info.name);
+    m.groups[info.name] = ids.size();
+    m.regions.push_back(info);
+    filled.emplace(info.name, std::move(f));
+  }
+
+  for (const auto& g : sc.tables("group")) {
+    std::vector<std::uint32_t> ids;
+    const std::string& region = g.str("region");
+    for (const auto& [name, f] : filled) {
+      if (!region.empty() && name != region) continue;
+      for (std::uint32_t i : select(g, f.lattice)) ids.push_back(f.first_id + i);
+    }
+    if (ids.empty()) g.fail("select", fmt::format("group '{}' selects no particle", g.str("name")));
+    sim.add_to_group(ids, g.str("name"));
+    m.groups[g.str("name")] = ids.size();
+  }
+
+  sim.bond_touching_pairs();
+
+  for (const auto& b : sc.tables("boundary")) {
+    const std::string& group = b.str("group");
+    const std::string& type = b.str("type");
+    const unsigned axes = axes_mask(b.strings("axes"), dim);
+    if (type == "fixed") {
+      sim.fix(group, axes);
+    } else if (type == "velocity") {
+      if (!b.has("velocity")) b.fail("type", "type = \"velocity\" needs the key 'velocity' (m/s)");
+      sim.prescribe_velocity(group, vec3(b.reals("velocity")), axes);
+    } else {
+      if (!b.has("increment")) b.fail("type", "type = \"step_displacement\" needs the key 'increment' (m)");
+      auto inc = vec3(b.reals("increment"));
+      for (int a = 0; a < 3; ++a)
+        if (!(axes >> a & 1u)) inc[a] = 0;
+      sim.step_displacement(group, inc, b.integer("every"));
+    }
+  }
+  for (const auto& l : sc.tables("load")) {
+    std::vector<std::array<double, 3>> forces;
+    for (const auto& row : l.real_table("forces")) forces.push_back(vec3(row));
+    if (forces.size() != l.reals("times").size())
+      l.fail("forces", fmt::format("forces has {} rows but times has {} entries: one force per time",
+                                   forces.size(), l.reals("times").size()));
+    if (l.str("per") == "group") {
+      const double n = double(m.groups.at(l.str("group")));
+      for (auto& f : forces)
+        for (double& c : f) c /= n;
+    }
+    sim.force_history(l.str("group"), l.reals("times"), std::move(forces));
+  }
+  for (const auto& w : sc.tables("wall")) {
+    const double k = w.real("stiffness") > 0 ? w.real("stiffness") : max_kn;
+    auto n = vec3(w.reals("normal"));
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len == 0) w.fail("normal", "the wall normal must not be zero");
+    for (double& c : n) c /= len;
+    sim.add_wall(vec3(w.reals("point")), n, w.has("velocity") ? vec3(w.reals("velocity")) : std::array<double, 3>{},
+                 k);
+  }
+
+  // Time step: automatic (dt_safety × dt_crit) or checked against dt_crit.
+  m.dt_automatic = solver.real("dt") == 0;
+  if (m.dt_automatic) sim.set_dt(std::numeric_limits<double>::min());
+  sim.initialise();
+  m.dt_crit = sim.critical_dt();
+  if (m.dt_automatic) {
+    sim.set_dt(solver.real("dt_safety") * m.dt_crit);
+  } else if (solver.real("dt") > m.dt_crit) {
+    const double dt = solver.real("dt");
+    if (!(force || solver.boolean("allow_unstable")))
+      solver.fail("dt", fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
+                                    "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
+                                    "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
+                                    dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
+    log::warn("dt = {:.4g} s exceeds the critical time step {:.4g} s (dt/dt_crit = {:.3f}): running anyway as "
+              "asked; results are not reliable",
+              dt, m.dt_crit, dt / m.dt_crit);
+  }
+  m.dt = sim.dt();
+  const std::int64_t steps = solver.integer("steps");
+  m.steps = steps > 0 ? steps : std::int64_t(std::ceil(solver.real("duration") / m.dt - 1e-9));
+
+  // Platen probe geometry (SPEC C1): platens' outer faces and the loaded width.
+  const scene::Table& probe = sc.table("probe");
+  if (probe.boolean("stress_strain")) {
+    PlatenProbe& p = m.platens;
+    p.enabled = true;
+    p.top = probe.str("top_group");
+    p.bottom = probe.str("bottom_group");
+    p.axis = axis_index(probe.str("axis"));
+    if (p.axis >= dim) probe.fail("axis", fmt::format("axis z does not exist in a {}D scene", dim));
+    const auto pos = sim.positions();
+    const auto rad = sim.radii();
+    std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+    for (std::size_t i = 0; i < pos.size(); ++i)
+      for (int a = 0; a < dim; ++a)
+        lo[a] = std::min(lo[a], pos[i][a] - rad[i]), hi[a] = std::max(hi[a], pos[i][a] + rad[i]);
+    p.area = 1;
+    for (int a = 0; a < dim; ++a)
+      if (a != p.axis) p.area *= hi[a] - lo[a];
+    if (dim == 2) p.area *= st.real("thickness");
+    p.radius = rad.empty() ? 0 : rad[0];
+    p.length0 = platen_distance(m);
+  }
+  m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return m;
+}
+
+namespace {
+/// Distance between the outer faces of the two platen groups along the probe axis.
+double platen_distance(const BuiltModel& m) {
+  const PlatenProbe& p = m.platens;
+  const auto pos = m.sim.positions();
+  const auto ids = m.sim.ids();
+  // ids() maps internal index -> id; build the inverse once per call (cheap next to a run).
+  std::vector<std::uint32_t> where(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = std::uint32_t(i);
+  auto mean = [&](const std::string& g) {
+    double sum = 0;
+    const auto members = m.sim.group_members(g);
+    for (auto id : members) sum += pos[where[id]][p.axis];
+    return sum / double(members.size());
+  };
+  return mean(p.top) - mean(p.bottom) + 2 * p.radius;
+}
+}  // namespace
+
+AxialState axial_state(const BuiltModel& m) {
+  const PlatenProbe& p = m.platens;
+  AxialState s;
+  if (!p.enabled) return s;
+  s.strain = (p.length0 - platen_distance(m)) / p.length0;
+  s.force_top = m.sim.group_force(p.top)[p.axis];
+  s.force_bottom = m.sim.group_force(p.bottom)[p.axis];
+  // Internal forces push the top platen up (+) and the bottom one down (-) in compression.
+  s.stress = 0.5 * (s.force_top - s.force_bottom) / p.area;
+  return s;
+}
+
+}  // namespace strata::app

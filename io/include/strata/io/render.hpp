@@ -1,0 +1,100 @@
+#pragma once
+/// Headless pictures of particle frames: PNG files rendered by VTK off-screen.
+///
+/// Particles are drawn as disks (2D, orthographic camera looking down -z, fitted to the
+/// bounds) or spheres (3D, perspective camera along a given direction, optional clip
+/// plane), coloured by a point array with a colour bar. Broken bonds are drawn on top as
+/// thick lines coloured by mode (tension, shear, closed again) with a legend and counts.
+/// A label gives the time and step. Call ensure_display() first (render_frame does it).
+/// Without STRATA_WITH_RENDER these functions throw strata::Error (Unsupported).
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "strata/io/frame.hpp"
+
+namespace strata::io {
+
+/// Colour maps for particle fields.
+enum class Colormap {
+  Viridis,   ///< perceptually uniform, colour-blind safe: magnitudes (displacement, stress)
+  CoolWarm,  ///< diverging blue-white-red: signed fields centred on 0
+  Greys,     ///< light greys: when only the cracks matter
+};
+
+/// How pictures look; shared by every frame of a series.
+struct RenderStyle {
+  int width = 1600;   ///< pixels
+  int height = 1200;  ///< pixels
+  std::string title;  ///< top line, e.g. "Uniaxial compression, 1033 disks" (may be empty)
+
+  /// Point array to colour particles by; empty or absent: one uniform colour.
+  std::string field;
+  /// Component of a multi-component field; -1 = magnitude.
+  int component = -1;
+  /// Values are multiplied by this before display (e.g. 1e3 for m -> mm).
+  double field_scale = 1.0;
+  /// Shown in the colour bar title as "<field label> [<unit>]" (unit after scaling).
+  std::string field_label;  ///< defaults to the field name
+  std::string unit;
+  /// Fixed colour range (after scaling); default: the data range (render_series: the
+  /// range over all frames, so colours mean the same in every frame).
+  std::optional<std::array<double, 2>> range;
+  Colormap colormap = Colormap::Viridis;
+  /// Disks/spheres drawn at this fraction of their radius (slightly below 1 shows grains).
+  double radius_factor = 0.96;
+
+  /// Bonds: draw broken ones (state != Intact); intact ones only when asked.
+  bool show_broken_bonds = true;
+  bool show_intact_bonds = false;
+  double bond_line_width = 0;  ///< pixels; 0 = chosen from the picture size
+
+  /// 3D camera: direction from the camera towards the model, and the up vector.
+  std::array<double, 3> view_direction{-1.0, -0.6, -0.45};
+  std::array<double, 3> view_up{0.0, 0.0, 1.0};
+  /// 3D clip plane (origin, normal): particles on the normal's side are removed.
+  std::optional<std::array<double, 6>> clip_plane;
+};
+
+/// One picture: the data (not owned) and where to write it.
+struct RenderRequest {
+  const PointCloud* particles = nullptr;  ///< required; needs a `radius` point array
+  /// Bonds to draw, indexing `bond_points` (default: `particles`) and carrying a `state`
+  /// cell array (BondState codes). May be null.
+  const LineSet* bonds = nullptr;
+  const PointCloud* bond_points = nullptr;
+  std::optional<double> time;        ///< seconds; default: particles->time
+  std::optional<std::int64_t> step;  ///< default: particles->step
+  std::filesystem::path png;         ///< output file
+  RenderStyle style;
+};
+
+/// Renders one frame to `request.png` (parent folders created). Starts Xvfb if needed.
+void render_frame(const RenderRequest& request);
+
+/// Renders every frame of a particle series (a .pvd, read back with vtkXMLPolyDataReader)
+/// to `<out_dir>/frame_000000.png`, ... . Bonds come from `bonds_pvd` when given: its
+/// frames are matched to particle frames by time. Returns the PNG paths in order.
+std::vector<std::filesystem::path> render_series(const std::filesystem::path& particles_pvd,
+                                                 const std::filesystem::path& out_dir,
+                                                 const RenderStyle& style,
+                                                 const std::filesystem::path& bonds_pvd = {});
+
+/// Same, from an explicit list of particle frame files (bonds optional, same length or empty).
+std::vector<std::filesystem::path> render_frames(const std::vector<std::filesystem::path>& particle_files,
+                                                 const std::filesystem::path& out_dir,
+                                                 const RenderStyle& style,
+                                                 const std::vector<std::filesystem::path>& bond_files = {});
+
+/// Encodes `<png_dir>/frame_%06d.png` into an H.264 movie (libx264, yuv420p, padded to
+/// even size) when `ffmpeg` is on PATH; otherwise logs that ffmpeg is not installed and
+/// the PNGs are kept. Returns whether the movie was written.
+bool make_movie(const std::filesystem::path& png_dir, const std::filesystem::path& mp4, int fps = 20);
+
+/// "1.23 ms", "45.6 µs", "2.5 s": a time with an SI prefix and 3 significant digits.
+std::string format_time(double seconds);
+
+}  // namespace strata::io

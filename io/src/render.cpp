@@ -1,0 +1,785 @@
+#include "strata/io/render.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "atomic_file.hpp"
+#include "strata/config.hpp"
+#include "strata/core/error.hpp"
+#include "strata/core/log.hpp"
+#include "strata/io/display.hpp"
+#include "strata/io/series.hpp"
+#include "strata/io/vtk.hpp"
+
+#if STRATA_WITH_RENDER
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vtkActor.h>
+#include <vtkActor2D.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkCoordinate.h>
+#include <vtkDoubleArray.h>
+#include <vtkFloatArray.h>
+#include <vtkGlyph3DMapper.h>
+#include <vtkLineSource.h>
+#include <vtkLookupTable.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkPolyDataMapper2D.h>
+#include <vtkProperty.h>
+#include <vtkProperty2D.h>
+#include <vtkRegularPolygonSource.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkSphereSource.h>
+#include <vtkTextActor.h>
+#include <vtkTextProperty.h>
+#include <vtkWindowToImageFilter.h>
+
+#include <cstdlib>
+#include <sstream>
+#endif
+
+namespace strata::io {
+namespace fs = std::filesystem;
+
+std::string format_time(double t) {
+  if (t == 0 || !std::isfinite(t)) return fmt::format("{} s", t);
+  struct Prefix {
+    double scale;
+    const char* unit;
+  };
+  static constexpr Prefix kPrefixes[] = {{1, "s"}, {1e-3, "ms"}, {1e-6, "\u00b5s"}, {1e-9, "ns"}};
+  for (const auto& p : kPrefixes)
+    if (std::abs(t) >= p.scale * 0.99995 || p.scale == 1e-9) {
+      const double v = t / p.scale;
+      const int digits = std::abs(v) >= 100 ? 0 : std::abs(v) >= 10 ? 1 : 2;
+      return fmt::format("{:.{}f} {}", v, digits, p.unit);
+    }
+  return fmt::format("{} s", t);
+}
+
+#if STRATA_WITH_RENDER
+namespace {
+
+using Rgb = std::array<double, 3>;
+
+/// Colours of broken-bond modes (BondState codes 1..3) and their legend names.
+struct ModeStyle {
+  BondState state;
+  Rgb colour;
+  const char* label;
+};
+constexpr ModeStyle kModes[] = {
+    {BondState::BrokenTension, {0.84, 0.10, 0.11}, "tensile crack"},
+    {BondState::BrokenShear, {0.13, 0.40, 0.90}, "shear crack"},
+    {BondState::Closed, {0.10, 0.10, 0.10}, "closed again"},
+};
+constexpr Rgb kIntactColour{0.55, 0.55, 0.55};
+constexpr Rgb kUniformParticleColour{0.86, 0.82, 0.72};  // sandstone beige
+constexpr Rgb kText{0.08, 0.08, 0.08};
+
+Rgb hex(unsigned v) { return {((v >> 16) & 255) / 255.0, ((v >> 8) & 255) / 255.0, (v & 255) / 255.0}; }
+
+vtkSmartPointer<vtkLookupTable> make_lut(Colormap map, double lo, double hi) {
+  vtkNew<vtkColorTransferFunction> ctf;
+  switch (map) {
+    case Colormap::Viridis: {
+      // matplotlib's viridis at 10 evenly spaced points.
+      static constexpr unsigned kViridis[] = {0x440154, 0x482878, 0x3E4A89, 0x31688E, 0x26828E,
+                                              0x1F9E89, 0x35B779, 0x6DCD59, 0xB4DE2C, 0xFDE725};
+      for (int i = 0; i < 10; ++i) {
+        const Rgb c = hex(kViridis[i]);
+        ctf->AddRGBPoint(i / 9.0, c[0], c[1], c[2]);
+      }
+      break;
+    }
+    case Colormap::CoolWarm:
+      ctf->SetColorSpaceToDiverging();
+      ctf->AddRGBPoint(0.0, 0.230, 0.299, 0.754);
+      ctf->AddRGBPoint(1.0, 0.706, 0.016, 0.150);
+      break;
+    case Colormap::Greys:
+      ctf->AddRGBPoint(0.0, 0.92, 0.92, 0.92);
+      ctf->AddRGBPoint(1.0, 0.45, 0.45, 0.45);
+      break;
+  }
+  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  constexpr int kColours = 256;
+  lut->SetNumberOfTableValues(kColours);
+  for (int i = 0; i < kColours; ++i) {
+    double c[3];
+    ctf->GetColor(i / (kColours - 1.0), c);
+    lut->SetTableValue(i, c[0], c[1], c[2], 1.0);
+  }
+  lut->SetTableRange(lo, hi);
+  lut->Build();
+  return lut;
+}
+
+/// The displayed value of `field` at each point (component or magnitude, times scale).
+std::vector<double> field_values(const PointCloud& cloud, const RenderStyle& s) {
+  const Array* a = cloud.find(s.field);
+  if (!a) return {};
+  STRATA_CHECK(s.component < a->components, Input,
+               "render: field '{}' has {} components, asked for component {}", s.field, a->components,
+               s.component);
+  std::vector<double> v(a->tuples());
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (s.component >= 0 || a->components == 1) {
+      v[i] = a->at(i, std::max(s.component, 0));
+    } else {
+      double m = 0;
+      for (int c = 0; c < a->components; ++c) m += a->at(i, c) * a->at(i, c);
+      v[i] = std::sqrt(m);
+    }
+    v[i] *= s.field_scale;
+  }
+  return v;
+}
+
+std::array<double, 2> finite_range(const std::vector<double>& v) {
+  std::array<double, 2> r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (double x : v)
+    if (std::isfinite(x)) r = {std::min(r[0], x), std::max(r[1], x)};
+  return r;
+}
+
+/// A usable colour range: finite, non-empty.
+std::array<double, 2> widen(std::array<double, 2> r) {
+  if (!(r[0] <= r[1])) return {0.0, 1.0};
+  if (r[1] - r[0] <= 1e-12 * std::max(std::abs(r[0]), std::abs(r[1]))) {
+    const double pad = r[0] == 0 ? 1.0 : 0.05 * std::abs(r[0]);
+    return {r[0] - pad, r[1] + pad};
+  }
+  return r;
+}
+
+bool clipped(const RenderStyle& s, int dim, const double* p) {
+  if (dim != 3 || !s.clip_plane) return false;
+  const auto& c = *s.clip_plane;
+  return (p[0] - c[0]) * c[3] + (p[1] - c[1]) * c[4] + (p[2] - c[2]) * c[5] > 0;
+}
+
+vtkSmartPointer<vtkTextActor> text(const std::string& s, double x, double y, int size, bool bold,
+                                   const Rgb& colour, int justify = VTK_TEXT_LEFT,
+                                   int vjustify = VTK_TEXT_TOP) {
+  auto t = vtkSmartPointer<vtkTextActor>::New();
+  t->SetInput(s.c_str());
+  t->GetPositionCoordinate()->SetCoordinateSystemToNormalizedDisplay();
+  t->GetPositionCoordinate()->SetValue(x, y);
+  auto* p = t->GetTextProperty();
+  p->SetFontFamilyToArial();
+  p->SetFontSize(size);
+  p->SetBold(bold);
+  p->SetColor(colour[0], colour[1], colour[2]);
+  p->SetJustification(justify);
+  p->SetVerticalJustification(vjustify);
+  return t;
+}
+
+/// A short horizontal line in normalized window coordinates (legend sample).
+vtkSmartPointer<vtkActor2D> legend_line(double x0, double x1, double y, const Rgb& colour, double width) {
+  vtkNew<vtkPoints> pts;
+  pts->InsertNextPoint(x0, y, 0);
+  pts->InsertNextPoint(x1, y, 0);
+  vtkNew<vtkCellArray> lines;
+  const vtkIdType ids[2] = {0, 1};
+  lines->InsertNextCell(2, ids);
+  vtkNew<vtkPolyData> pd;
+  pd->SetPoints(pts);
+  pd->SetLines(lines);
+  vtkNew<vtkCoordinate> coord;
+  coord->SetCoordinateSystemToNormalizedDisplay();
+  vtkNew<vtkPolyDataMapper2D> m;
+  m->SetInputData(pd);
+  m->SetTransformCoordinate(coord);
+  auto a = vtkSmartPointer<vtkActor2D>::New();
+  a->SetMapper(m);
+  a->GetProperty()->SetColor(colour[0], colour[1], colour[2]);
+  a->GetProperty()->SetLineWidth(static_cast<float>(width));
+  return a;
+}
+
+/// Crack glyphs of one mode: a segment (2D) or disc (3D) at each bond's midpoint,
+/// perpendicular to the bond and as wide as the contact face of a close packing.
+struct CrackSet {
+  vtkSmartPointer<vtkPolyData> centres;
+  std::size_t count = 0;
+};
+
+CrackSet crack_set(const PointCloud& pts, const LineSet& bonds, const Array* state, const Array* radius,
+                   int code, const RenderStyle& s, int dim) {
+  vtkNew<vtkPoints> p;
+  p->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> dir, size;
+  dir->SetName("dir");
+  dir->SetNumberOfComponents(3);
+  size->SetName("size");
+  CrackSet out;
+  for (std::size_t b = 0; b < bonds.size(); ++b) {
+    const int st = state ? static_cast<int>(std::lround(state->at(b))) : 1;
+    if (st != code) continue;
+    const auto i = static_cast<std::size_t>(bonds.ends[2 * b]),
+               j = static_cast<std::size_t>(bonds.ends[2 * b + 1]);
+    const double* a = &pts.xyz[3 * i];
+    const double* c = &pts.xyz[3 * j];
+    const double mid[3] = {0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1]), 0.5 * (a[2] + c[2])};
+    if (clipped(s, dim, mid)) continue;
+    double d[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (len == 0) continue;
+    // Face of the Voronoi cell between two touching equal disks in a hexagonal packing:
+    // d/sqrt(3) long, so cracks of neighbouring bonds join into continuous lines.
+    const double ri = radius ? radius->at(i) : 0.5 * len, rj = radius ? radius->at(j) : 0.5 * len;
+    const double face = dim == 2 ? (ri + rj) / std::sqrt(3.0) : 0.5 * (ri + rj) * 0.6;
+    p->InsertNextPoint(mid);
+    dir->InsertNextTuple3(d[0] / len, d[1] / len, d[2] / len);
+    size->InsertNextValue(face);
+    ++out.count;
+  }
+  out.centres = vtkSmartPointer<vtkPolyData>::New();
+  out.centres->SetPoints(p);
+  out.centres->GetPointData()->AddArray(dir);
+  out.centres->GetPointData()->AddArray(size);
+  return out;
+}
+
+vtkSmartPointer<vtkGlyph3DMapper> crack_mapper(vtkPolyData* centres, int dim) {
+  auto m = vtkSmartPointer<vtkGlyph3DMapper>::New();
+  m->SetInputData(centres);
+  if (dim == 2) {
+    // Unit segment along y; the glyph's x axis is turned onto the bond direction.
+    vtkNew<vtkLineSource> seg;
+    seg->SetPoint1(0, -0.5, 0);
+    seg->SetPoint2(0, 0.5, 0);
+    m->SetSourceConnection(seg->GetOutputPort());
+  } else {
+    vtkNew<vtkRegularPolygonSource> disc;
+    disc->SetNumberOfSides(6);
+    disc->SetRadius(0.5);
+    disc->SetNormal(1, 0, 0);
+    m->SetSourceConnection(disc->GetOutputPort());
+  }
+  m->SetOrientationArray("dir");
+  m->SetOrientationModeToDirection();
+  m->SetScaleArray("size");
+  m->SetScaleModeToScaleByMagnitude();
+  m->SetScaling(true);
+  m->ScalarVisibilityOff();
+  return m;
+}
+
+/// Fits an orthographic camera looking down -z so that `b` fills the region
+/// [x0, x1] x [y0, y1] (normalized window coordinates) of a w x h window.
+void fit_2d_camera(vtkCamera* cam, const double b[6], int w, int h, double x0, double x1, double y0,
+                   double y1) {
+  const double bw = std::max(b[1] - b[0], 1e-30), bh = std::max(b[3] - b[2], 1e-30);
+  const double s = std::max(bw / ((x1 - x0) * w), bh / ((y1 - y0) * h));  // world units per pixel
+  const double cx = 0.5 * (b[0] + b[1]), cy = 0.5 * (b[2] + b[3]);
+  const double fx = cx + (0.5 - 0.5 * (x0 + x1)) * w * s;  // window centre in world units
+  const double fy = cy + (0.5 - 0.5 * (y0 + y1)) * h * s;
+  cam->ParallelProjectionOn();
+  cam->SetFocalPoint(fx, fy, 0);
+  cam->SetPosition(fx, fy, 1.0 + 10 * std::max(bw, bh));
+  cam->SetViewUp(0, 1, 0);
+  cam->SetParallelScale(0.5 * h * s);
+}
+
+/// Projected extent (display pixels) of the corners of `b`: {xmin, xmax, ymin, ymax}.
+std::array<double, 4> projected_box(vtkRenderer* ren, const double b[6]) {
+  std::array<double, 4> e{1e300, -1e300, 1e300, -1e300};
+  for (int k = 0; k < 8; ++k) {
+    ren->SetWorldPoint(b[k & 1], b[2 + ((k >> 1) & 1)], b[4 + ((k >> 2) & 1)], 1.0);
+    ren->WorldToDisplay();
+    double d[3];
+    ren->GetDisplayPoint(d);
+    e = {std::min(e[0], d[0]), std::max(e[1], d[0]), std::min(e[2], d[1]), std::max(e[3], d[1])};
+  }
+  return e;
+}
+
+/// After ResetCamera: zooms and shifts the projection so that the projected bounding box
+/// fills the region [x0, x1] x [y0, y1] (normalized window coordinates), centred in it.
+void fit_3d_camera(vtkRenderer* ren, const double b[6], int w, int h, double x0, double x1, double y0,
+                   double y1) {
+  vtkCamera* cam = ren->GetActiveCamera();
+  auto e = projected_box(ren, b);
+  const double zoom =
+      std::min((x1 - x0) * w / std::max(e[1] - e[0], 1.0), (y1 - y0) * h / std::max(e[3] - e[2], 1.0));
+  cam->Zoom(0.97 * zoom);
+  // The window centre shifts the picture linearly: measure how much, then aim.
+  cam->SetWindowCenter(0, 0);
+  e = projected_box(ren, b);
+  const double c0x = 0.5 * (e[0] + e[1]), c0y = 0.5 * (e[2] + e[3]);
+  cam->SetWindowCenter(0.1, 0.1);
+  e = projected_box(ren, b);
+  const double kx = (0.5 * (e[0] + e[1]) - c0x) / 0.1, ky = (0.5 * (e[2] + e[3]) - c0y) / 0.1;
+  const double ax = 0.5 * (x0 + x1) * w, ay = 0.5 * (y0 + y1) * h;
+  cam->SetWindowCenter(std::abs(kx) > 1e-9 ? (ax - c0x) / kx : 0.0,
+                       std::abs(ky) > 1e-9 ? (ay - c0y) / ky : 0.0);
+}
+
+void write_png(vtkRenderWindow* win, const fs::path& png) {
+  detail::make_parent(png);
+  vtkNew<vtkWindowToImageFilter> grab;
+  grab->SetInput(win);
+  grab->SetInputBufferTypeToRGB();
+  grab->ReadFrontBufferOff();
+  grab->Update();
+  const auto tmp = fs::path(png.string() + ".tmp");
+  vtkNew<vtkPNGWriter> w;
+  w->SetFileName(tmp.c_str());
+  w->SetInputConnection(grab->GetOutputPort());
+  w->Write();
+  STRATA_CHECK(w->GetErrorCode() == 0 && fs::exists(tmp), IO, "could not write PNG {}", png.string());
+  detail::commit(tmp, png);
+}
+
+std::string thousands(std::int64_t n) { return std::to_string(n); }
+
+}  // namespace
+
+void render_frame(const RenderRequest& rq) {
+  STRATA_CHECK(rq.particles, Input, "render_frame: no particles given");
+  STRATA_CHECK(!rq.png.empty(), Input, "render_frame: no output file given");
+  const PointCloud& cloud = *rq.particles;
+  validate(cloud);
+  const RenderStyle& s = rq.style;
+  STRATA_CHECK(s.width >= 16 && s.height >= 16 && s.width <= 8192 && s.height <= 8192, Input,
+               "render: picture size {}x{} outside 16..8192 pixels", s.width, s.height);
+  const PointCloud& bond_pts = rq.bond_points ? *rq.bond_points : cloud;
+  if (rq.bonds) validate(bond_pts, rq.bonds);
+  ensure_display();
+
+  const int dim = cloud.dim;
+  const int W = s.width, H = s.height;
+  const int font = std::max(10, H / 42);
+  const Array* radius = cloud.find(kRadiusArray);
+
+  // ---- particles: glyph centres with radius and display value --------------------------
+  const std::vector<double> values = s.field.empty() ? std::vector<double>{} : field_values(cloud, s);
+  if (!s.field.empty() && values.empty())
+    log::warn("render: particles have no array '{}'; drawing them in one colour", s.field);
+  const bool coloured = !values.empty();
+  std::array<double, 2> range = s.range ? *s.range : finite_range(values);
+  if (!s.range && s.colormap == Colormap::CoolWarm && range[0] <= range[1]) {
+    // A diverging map is centred on zero: white means "no stress".
+    const double m = std::max(std::abs(range[0]), std::abs(range[1]));
+    range = {-m, m};
+  }
+  range = widen(range);
+
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  vtkNew<vtkFloatArray> rad, col;
+  rad->SetName("r");
+  col->SetName("c");
+  double bounds[6] = {1e300, -1e300, 1e300, -1e300, 1e300, -1e300};
+  double mean_r = 0;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const double* p = &cloud.xyz[3 * i];
+    if (clipped(s, dim, p)) continue;
+    const double r = radius ? radius->at(i) : 0.0;
+    pts->InsertNextPoint(p);
+    rad->InsertNextValue(static_cast<float>(r * s.radius_factor));
+    if (coloured) col->InsertNextValue(static_cast<float>(values[i]));
+    for (int k = 0; k < 3; ++k) {
+      bounds[2 * k] = std::min(bounds[2 * k], p[k] - r);
+      bounds[2 * k + 1] = std::max(bounds[2 * k + 1], p[k] + r);
+    }
+    mean_r += r;
+  }
+  const auto shown = pts->GetNumberOfPoints();
+  if (shown > 0) mean_r /= static_cast<double>(shown);
+  if (shown == 0) std::fill(bounds, bounds + 6, 0.0), bounds[1] = bounds[3] = bounds[5] = 1.0;
+  if (!radius) {
+    // No radius: a size from the point density of the bounding box.
+    const double area = (bounds[1] - bounds[0]) * (bounds[3] - bounds[2]);
+    mean_r = 0.5 * std::sqrt(std::max(area, 1e-30) / std::max<vtkIdType>(shown, 1));
+    for (vtkIdType i = 0; i < shown; ++i) rad->SetValue(i, static_cast<float>(mean_r * s.radius_factor));
+    log::warn("render: particles have no '{}' array; drawing them with radius {:.3g}", kRadiusArray, mean_r);
+  }
+  vtkNew<vtkPolyData> centres;
+  centres->SetPoints(pts);
+  centres->GetPointData()->AddArray(rad);
+  if (coloured) {
+    centres->GetPointData()->AddArray(col);
+    centres->GetPointData()->SetActiveScalars("c");
+  }
+
+  vtkNew<vtkGlyph3DMapper> pmap;
+  pmap->SetInputData(centres);
+  if (dim == 2) {
+    vtkNew<vtkRegularPolygonSource> disk;
+    disk->SetNumberOfSides(24);
+    disk->SetRadius(1.0);
+    disk->SetNormal(0, 0, 1);
+    disk->GeneratePolylineOff();
+    pmap->SetSourceConnection(disk->GetOutputPort());
+  } else {
+    vtkNew<vtkSphereSource> ball;
+    ball->SetRadius(1.0);
+    ball->SetThetaResolution(16);
+    ball->SetPhiResolution(12);
+    pmap->SetSourceConnection(ball->GetOutputPort());
+  }
+  pmap->SetScaleArray("r");
+  pmap->SetScaleModeToScaleByMagnitude();
+  pmap->SetScaling(true);
+  pmap->OrientOff();
+  auto lut = make_lut(s.colormap, range[0], range[1]);
+  if (coloured) {
+    pmap->SetLookupTable(lut);
+    pmap->SetScalarRange(range[0], range[1]);
+    pmap->SetScalarModeToUsePointFieldData();
+    pmap->SelectColorArray("c");
+    pmap->ScalarVisibilityOn();
+  } else {
+    pmap->ScalarVisibilityOff();
+  }
+  vtkNew<vtkActor> particles;
+  particles->SetMapper(pmap);
+  if (!coloured)
+    particles->GetProperty()->SetColor(kUniformParticleColour[0], kUniformParticleColour[1],
+                                       kUniformParticleColour[2]);
+  if (dim == 2) {  // flat colours that match the colour bar exactly
+    particles->GetProperty()->SetAmbient(1.0);
+    particles->GetProperty()->SetDiffuse(0.0);
+    particles->GetProperty()->SetSpecular(0.0);
+  } else {
+    particles->GetProperty()->SetAmbient(0.25);
+    particles->GetProperty()->SetDiffuse(0.8);
+    particles->GetProperty()->SetSpecular(0.1);
+  }
+
+  // ---- window, renderers (layer 0 particles, 1 crack halos, 2 cracks + annotations) -----
+  vtkNew<vtkRenderWindow> win;
+  win->SetOffScreenRendering(1);
+  win->SetSize(W, H);
+  win->SetNumberOfLayers(3);
+  win->SetMultiSamples(0);
+  vtkNew<vtkRenderer> scene, halo_layer, top;
+  scene->SetBackground(1, 1, 1);
+  scene->SetLayer(0);
+  halo_layer->SetLayer(1);
+  top->SetLayer(2);
+  for (auto* r : {scene.Get(), halo_layer.Get(), top.Get()}) win->AddRenderer(r);
+  scene->AddActor(particles);
+  scene->UseFXAAOn();
+
+  // Model area: left part of the window, leaving the right strip for colour bar and legend.
+  const double mx0 = 0.03, mx1 = coloured || rq.bonds ? 0.77 : 0.97, my0 = 0.05, my1 = 0.87;
+  const double side = 0.80;  // left edge of colour bar and legend
+  vtkCamera* cam = scene->GetActiveCamera();
+  if (dim == 2) {
+    fit_2d_camera(cam, bounds, W, H, mx0, mx1, my0, my1);
+  } else {
+    auto d = s.view_direction;
+    const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    STRATA_CHECK(n > 0, Input, "render: view direction is zero");
+    const double c[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
+                         0.5 * (bounds[4] + bounds[5])};
+    cam->SetFocalPoint(c);
+    cam->SetPosition(c[0] - d[0] / n, c[1] - d[1] / n, c[2] - d[2] / n);
+    cam->SetViewUp(s.view_up.data());
+    cam->SetViewAngle(25);
+    scene->ResetCamera(bounds);
+    fit_3d_camera(scene, bounds, W, H, mx0, mx1, my0, my1);
+  }
+  halo_layer->SetActiveCamera(cam);
+  top->SetActiveCamera(cam);
+
+  // ---- bonds ----------------------------------------------------------------------------
+  std::vector<std::pair<const ModeStyle*, std::size_t>> legend;
+  double px_per_unit = 0;
+  {
+    double p0[3], p1[3];
+    scene->SetWorldPoint(bounds[0], bounds[2], bounds[4], 1);
+    scene->WorldToDisplay();
+    scene->GetDisplayPoint(p0);
+    scene->SetWorldPoint(bounds[0] + 2 * mean_r, bounds[2], bounds[4], 1);
+    scene->WorldToDisplay();
+    scene->GetDisplayPoint(p1);
+    px_per_unit = mean_r > 0 ? std::hypot(p1[0] - p0[0], p1[1] - p0[1]) / (2 * mean_r) : 0;
+  }
+  const double diameter_px = 2 * mean_r * px_per_unit;
+  const double line_w = s.bond_line_width > 0 ? s.bond_line_width : std::clamp(0.22 * diameter_px, 1.5, 5.0);
+  if (rq.bonds && rq.bonds->size() > 0) {
+    const LineSet& bonds = *rq.bonds;
+    const Array* state = bonds.find(kBondStateArray);
+    if (!state) log::warn("render: bonds have no '{}' array; drawing all as tensile cracks", kBondStateArray);
+    const Array* bond_radius = bond_pts.find(kRadiusArray);
+    if (s.show_intact_bonds && state) {
+      // Intact bonds as thin centre-to-centre lines under the cracks.
+      vtkNew<vtkPoints> lp;
+      vtkNew<vtkCellArray> cells;
+      for (std::size_t b = 0; b < bonds.size(); ++b) {
+        if (std::lround(state->at(b)) != 0) continue;
+        const double* a = &bond_pts.xyz[3 * bonds.ends[2 * b]];
+        const double* c = &bond_pts.xyz[3 * bonds.ends[2 * b + 1]];
+        const double mid[3] = {0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1]), 0.5 * (a[2] + c[2])};
+        if (clipped(s, dim, mid)) continue;
+        const vtkIdType ids[2] = {lp->InsertNextPoint(a), lp->InsertNextPoint(c)};
+        cells->InsertNextCell(2, ids);
+      }
+      vtkNew<vtkPolyData> pd;
+      pd->SetPoints(lp);
+      pd->SetLines(cells);
+      vtkNew<vtkPolyDataMapper> m;
+      m->SetInputData(pd);
+      vtkNew<vtkActor> a;
+      a->SetMapper(m);
+      a->GetProperty()->SetColor(kIntactColour[0], kIntactColour[1], kIntactColour[2]);
+      a->GetProperty()->SetLineWidth(static_cast<float>(std::max(1.0, 0.4 * line_w)));
+      a->GetProperty()->LightingOff();
+      halo_layer->AddActor(a);
+    }
+    if (s.show_broken_bonds) {
+      for (const auto& mode : kModes) {
+        auto set = crack_set(bond_pts, bonds, state, bond_radius, static_cast<int>(mode.state), s, dim);
+        if (!state && mode.state != BondState::BrokenTension) continue;
+        legend.emplace_back(&mode, set.count);
+        if (set.count == 0) continue;
+        // A white halo under each crack keeps it visible on any particle colour.
+        // (One mapper per actor: a mapper's buffers belong to one renderer.)
+        vtkNew<vtkActor> halo, crack;
+        halo->SetMapper(crack_mapper(set.centres, dim));
+        crack->SetMapper(crack_mapper(set.centres, dim));
+        halo->GetProperty()->SetColor(1, 1, 1);
+        crack->GetProperty()->SetColor(mode.colour[0], mode.colour[1], mode.colour[2]);
+        for (auto* a : {halo.Get(), crack.Get()}) {
+          a->GetProperty()->SetAmbient(1.0);
+          a->GetProperty()->SetDiffuse(0.0);
+          a->GetProperty()->SetRenderLinesAsTubes(false);
+        }
+        halo->GetProperty()->SetLineWidth(static_cast<float>(line_w + 2.5));
+        crack->GetProperty()->SetLineWidth(static_cast<float>(line_w));
+        if (dim == 3) halo->GetProperty()->SetRepresentationToWireframe();
+        halo_layer->AddActor(halo);
+        top->AddActor(crack);
+      }
+    }
+  }
+
+  // ---- annotations --------------------------------------------------------------------
+  double ytop = 0.975;
+  if (!s.title.empty()) {
+    top->AddActor2D(text(s.title, 0.03, ytop, static_cast<int>(font * 1.3), true, kText));
+    ytop -= 1.3 * 1.35 * font / H;
+  }
+  const auto time = rq.time ? rq.time : cloud.time;
+  const auto step = rq.step ? rq.step : cloud.step;
+  std::string when;
+  if (time) when = "t = " + format_time(*time);
+  if (step) when += (when.empty() ? "" : ",   ") + ("step " + thousands(*step));
+  if (!when.empty()) top->AddActor2D(text(when, 0.03, ytop, font, false, kText));
+
+  if (coloured) {
+    vtkNew<vtkScalarBarActor> bar;
+    bar->SetLookupTable(lut);
+    std::string label = s.field_label.empty() ? s.field : s.field_label;
+    if (!s.unit.empty()) label += " [" + s.unit + "]";
+    bar->SetTitle(label.c_str());
+    bar->SetNumberOfLabels(s.colormap == Colormap::CoolWarm ? 7 : 6);  // 7: zero gets a label
+    bar->SetLabelFormat("%-#.3g");
+    bar->SetOrientationToVertical();
+    bar->UnconstrainedFontSizeOn();
+    bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedDisplay();
+    bar->GetPositionCoordinate()->SetValue(side, rq.bonds ? 0.30 : 0.10);
+    bar->SetWidth(0.15);
+    bar->SetHeight(rq.bonds ? 0.56 : 0.76);
+    bar->SetBarRatio(0.28);
+    bar->SetTextPad(6);
+    bar->SetVerticalTitleSeparation(font / 2);
+    bar->SetMaximumWidthInPixels(W);
+    for (auto* p : {bar->GetTitleTextProperty(), bar->GetLabelTextProperty()}) {
+      p->SetFontFamilyToArial();
+      p->SetColor(kText[0], kText[1], kText[2]);
+      p->ShadowOff();
+      p->ItalicOff();
+    }
+    bar->GetTitleTextProperty()->SetFontSize(font);
+    bar->GetTitleTextProperty()->BoldOn();
+    bar->GetLabelTextProperty()->SetFontSize(static_cast<int>(font * 0.85));
+    bar->GetLabelTextProperty()->BoldOff();
+    bar->GetTitleTextProperty()->SetJustificationToLeft();
+    top->AddActor2D(bar);
+  }
+  if (!legend.empty()) {
+    // Legend: line sample + "tensile crack (n)" per mode, bottom right.
+    double y = 0.05 + (legend.size() - 1) * 1.6 * font / H;
+    top->AddActor2D(
+        text("broken bonds", side, y + 1.7 * font / H, font, true, kText, VTK_TEXT_LEFT, VTK_TEXT_CENTERED));
+    for (const auto& [mode, count] : legend) {
+      top->AddActor2D(legend_line(side, side + 0.035, y, mode->colour, std::max(3.0, line_w + 1)));
+      top->AddActor2D(text(fmt::format("{} ({})", mode->label, thousands(static_cast<std::int64_t>(count))),
+                           side + 0.045, y, static_cast<int>(font * 0.8), false, kText, VTK_TEXT_LEFT,
+                           VTK_TEXT_CENTERED));
+      y -= 1.6 * font / H;
+    }
+  }
+
+  win->Render();
+  write_png(win, rq.png);
+}
+
+std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files, const fs::path& out_dir,
+                                    const RenderStyle& style, const std::vector<fs::path>& bond_files) {
+  STRATA_CHECK(bond_files.empty() || bond_files.size() == particle_files.size(), Input,
+               "render: {} bond frames for {} particle frames", bond_files.size(), particle_files.size());
+  RenderStyle s = style;
+  if (!s.range && !s.field.empty()) {
+    // One colour range for the whole series, so a colour means the same in every frame.
+    std::array<double, 2> r{std::numeric_limits<double>::infinity(),
+                            -std::numeric_limits<double>::infinity()};
+    for (const auto& f : particle_files) {
+      const auto fr = finite_range(field_values(read_vtp(f).points, s));
+      r = {std::min(r[0], fr[0]), std::max(r[1], fr[1])};
+    }
+    if (r[0] <= r[1]) s.range = r;
+  }
+  std::vector<fs::path> out;
+  for (std::size_t k = 0; k < particle_files.size(); ++k) {
+    const auto particles = read_vtp(particle_files[k]);
+    RenderRequest rq;
+    rq.particles = &particles.points;
+    VtpContents bonds;
+    if (!bond_files.empty() && !bond_files[k].empty()) {
+      bonds = read_vtp(bond_files[k]);
+      rq.bonds = &bonds.lines;
+      rq.bond_points = &bonds.points;
+    }
+    rq.png = out_dir / fmt::format("frame_{:06d}.png", k);
+    rq.style = s;
+    render_frame(rq);
+    out.push_back(rq.png);
+    log::debug("rendered {}", rq.png.string());
+  }
+  return out;
+}
+
+std::vector<fs::path> render_series(const fs::path& particles_pvd, const fs::path& out_dir,
+                                    const RenderStyle& style, const fs::path& bonds_pvd) {
+  const auto base = particles_pvd.parent_path();
+  std::vector<fs::path> pfiles, bfiles;
+  const auto entries = read_pvd(particles_pvd);
+  std::vector<PvdEntry> bond_entries;
+  if (!bonds_pvd.empty()) bond_entries = read_pvd(bonds_pvd);
+  for (const auto& e : entries) {
+    pfiles.push_back(e.file.is_absolute() ? e.file : base / e.file);
+    if (bonds_pvd.empty()) continue;
+    // The bond frame with the same time (relative tolerance), if any.
+    fs::path match;
+    for (const auto& b : bond_entries)
+      if (std::abs(b.time - e.time) <=
+              1e-9 * std::max(1e-300, std::max(std::abs(b.time), std::abs(e.time))) ||
+          b.time == e.time) {
+        match = b.file.is_absolute() ? b.file : bonds_pvd.parent_path() / b.file;
+        break;
+      }
+    bfiles.push_back(match);
+  }
+  log::info("rendering {} frames of {} to {}", pfiles.size(), particles_pvd.string(), out_dir.string());
+  return render_frames(pfiles, out_dir, style, bfiles);
+}
+
+bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
+  std::string ffmpeg;
+  {
+    const char* path = std::getenv("PATH");
+    std::stringstream ss(path ? path : "/usr/bin:/bin");
+    for (std::string dir; std::getline(ss, dir, ':');) {
+      const std::string full = (dir.empty() ? std::string(".") : dir) + "/ffmpeg";
+      struct stat st {};
+      if (::stat(full.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(full.c_str(), X_OK) == 0) {
+        ffmpeg = full;
+        break;
+      }
+    }
+  }
+  if (ffmpeg.empty()) {
+    log::info("ffmpeg is not installed: no movie {}; the PNG frames are kept in {}", mp4.string(),
+              png_dir.string());
+    return false;
+  }
+  STRATA_CHECK(fs::exists(png_dir / "frame_000000.png"), IO, "make_movie: no {}",
+               (png_dir / "frame_000000.png").string());
+  detail::make_parent(mp4);
+  const auto tmp = fs::path(mp4.string() + ".tmp");
+  const std::string pattern = (png_dir / "frame_%06d.png").string(), rate = std::to_string(fps);
+  std::vector<std::string> args = {ffmpeg,
+                                   "-nostdin",
+                                   "-y",
+                                   "-loglevel",
+                                   "error",
+                                   "-framerate",
+                                   rate,
+                                   "-i",
+                                   pattern,
+                                   "-vf",
+                                   "pad=ceil(iw/2)*2:ceil(ih/2)*2",
+                                   "-c:v",
+                                   "libx264",
+                                   "-pix_fmt",
+                                   "yuv420p",
+                                   "-movflags",
+                                   "+faststart",
+                                   "-f",
+                                   "mp4",
+                                   tmp.string()};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  STRATA_CHECK(pid >= 0, IO, "fork for ffmpeg failed");
+  if (pid == 0) {
+    const int devnull = ::open("/dev/null", O_RDWR);
+    if (devnull >= 0) ::dup2(devnull, 0);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || !fs::exists(tmp)) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    log::warn("ffmpeg failed (status {}); no movie {}, the PNG frames are kept in {}", status, mp4.string(),
+              png_dir.string());
+    return false;
+  }
+  detail::commit(tmp, mp4);
+  log::info("wrote movie {}", mp4.string());
+  return true;
+}
+
+#else  // !STRATA_WITH_RENDER
+
+void render_frame(const RenderRequest&) { fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures"); }
+std::vector<fs::path> render_frames(const std::vector<fs::path>&, const fs::path&, const RenderStyle&,
+                                    const std::vector<fs::path>&) {
+  fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
+}
+std::vector<fs::path> render_series(const fs::path&, const fs::path&, const RenderStyle&, const fs::path&) {
+  fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
+}
+bool make_movie(const fs::path&, const fs::path&, int) {
+  fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
+}
+
+#endif
+
+}  // namespace strata::io

@@ -1,0 +1,286 @@
+#include "strata/io/vtk.hpp"
+
+#include "atomic_file.hpp"
+#include "strata/config.hpp"
+#include "strata/core/error.hpp"
+
+#if STRATA_WITH_VTK
+#include <vtkCellArray.h>
+#include <vtkCellArrayIterator.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkIdTypeArray.h>
+#include <vtkInformation.h>
+#include <vtkIntArray.h>
+#include <vtkLongLongArray.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkSmartPointer.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLPolyDataWriter.h>
+
+#include <cmath>
+#include <numeric>
+#endif
+
+namespace strata::io {
+
+#if STRATA_WITH_VTK
+namespace {
+
+template <typename VtkArray, typename T>
+vtkSmartPointer<vtkDataArray> fill(const Array& a, const std::vector<std::size_t>* pick) {
+  auto out = vtkSmartPointer<VtkArray>::New();
+  out->SetName(a.name.c_str());
+  out->SetNumberOfComponents(a.components);
+  const std::size_t n = pick ? pick->size() : a.tuples();
+  out->SetNumberOfTuples(static_cast<vtkIdType>(n));
+  T* dst = out->GetPointer(0);
+  const auto comps = static_cast<std::size_t>(a.components);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t src = pick ? (*pick)[i] : i;
+    for (std::size_t c = 0; c < comps; ++c) {
+      const double v = a.values[src * comps + c];
+      if constexpr (std::is_integral_v<T>)
+        dst[i * comps + c] = static_cast<T>(std::llround(v));
+      else
+        dst[i * comps + c] = static_cast<T>(v);
+    }
+  }
+  return out;
+}
+
+/// A VTK array holding `a` (only the tuples in `pick`, when given).
+vtkSmartPointer<vtkDataArray> to_vtk(const Array& a, const std::vector<std::size_t>* pick = nullptr) {
+  switch (a.type) {
+    case ArrayType::Float64:
+      return fill<vtkDoubleArray, double>(a, pick);
+    case ArrayType::Float32:
+      return fill<vtkFloatArray, float>(a, pick);
+    case ArrayType::Int64:
+      return fill<vtkLongLongArray, long long>(a, pick);
+    case ArrayType::Int32:
+      return fill<vtkIntArray, int>(a, pick);
+    case ArrayType::UInt8:
+      return fill<vtkUnsignedCharArray, unsigned char>(a, pick);
+  }
+  fail(ErrorKind::Internal, "unknown ArrayType for array '{}'", a.name);
+}
+
+Array from_vtk(vtkDataArray* d) {
+  Array a;
+  a.name = d->GetName() ? d->GetName() : "";
+  a.components = d->GetNumberOfComponents();
+  switch (d->GetDataType()) {
+    case VTK_FLOAT:
+      a.type = ArrayType::Float32;
+      break;
+    case VTK_UNSIGNED_CHAR:
+      a.type = ArrayType::UInt8;
+      break;
+    case VTK_INT:
+    case VTK_SHORT:
+    case VTK_CHAR:
+    case VTK_SIGNED_CHAR:
+    case VTK_UNSIGNED_SHORT:
+      a.type = ArrayType::Int32;
+      break;
+    case VTK_LONG:
+    case VTK_LONG_LONG:
+    case VTK_UNSIGNED_INT:
+    case VTK_UNSIGNED_LONG:
+    case VTK_UNSIGNED_LONG_LONG:
+    case VTK_ID_TYPE:
+      a.type = ArrayType::Int64;
+      break;
+    default:
+      a.type = ArrayType::Float64;
+  }
+  const vtkIdType n = d->GetNumberOfTuples();
+  a.values.resize(static_cast<std::size_t>(n) * a.components);
+  for (vtkIdType i = 0; i < n; ++i)
+    for (int c = 0; c < a.components; ++c) a.values[i * a.components + c] = d->GetComponent(i, c);
+  return a;
+}
+
+vtkSmartPointer<vtkPoints> make_points(const PointCloud& cloud, const std::vector<std::size_t>* pick) {
+  auto pts = vtkSmartPointer<vtkPoints>::New();
+  pts->SetDataTypeToDouble();
+  const std::size_t n = pick ? pick->size() : cloud.size();
+  pts->SetNumberOfPoints(static_cast<vtkIdType>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t s = pick ? (*pick)[i] : i;
+    pts->SetPoint(static_cast<vtkIdType>(i), cloud.xyz[3 * s], cloud.xyz[3 * s + 1], cloud.xyz[3 * s + 2]);
+  }
+  return pts;
+}
+
+void add_field_data(vtkPolyData* pd, const PointCloud& cloud) {
+  vtkNew<vtkIntArray> dim;
+  dim->SetName("dimension");
+  dim->InsertNextValue(cloud.dim);
+  pd->GetFieldData()->AddArray(dim);
+  if (cloud.time) {
+    vtkNew<vtkDoubleArray> t;
+    t->SetName("TimeValue");
+    t->InsertNextValue(*cloud.time);
+    pd->GetFieldData()->AddArray(t);
+  }
+  if (cloud.step) {
+    vtkNew<vtkLongLongArray> s;
+    s->SetName("step");
+    s->InsertNextValue(*cloud.step);
+    pd->GetFieldData()->AddArray(s);
+  }
+}
+
+/// Writes `pd` through `<path>.tmp` and a rename, with explicit format settings.
+void write_polydata(const std::filesystem::path& path, vtkPolyData* pd) {
+  detail::make_parent(path);
+  const auto tmp = detail::temp_path(path);
+  vtkNew<vtkXMLPolyDataWriter> w;
+  w->SetInputData(pd);
+  w->SetFileName(tmp.c_str());
+  w->SetDataModeToAppended();
+  w->EncodeAppendedDataOff();  // raw binary, as ParaView writes it
+  w->SetCompressorTypeToZLib();
+  w->SetHeaderTypeToUInt64();
+  w->SetIdTypeToInt64();
+  const int ok = w->Write();
+  if (!ok || w->GetErrorCode() != 0) {
+    std::error_code ec;
+    std::filesystem::remove(tmp, ec);
+    fail(ErrorKind::IO, "VTK could not write {} (error code {})", tmp.string(),
+         static_cast<int>(w->GetErrorCode()));
+  }
+  detail::commit(tmp, path);
+}
+
+}  // namespace
+
+void write_particles(const std::filesystem::path& path, const PointCloud& particles) {
+  validate(particles);
+  STRATA_CHECK(particles.find(kRadiusArray), Input, "write_particles({}): the point cloud has no '{}' array",
+               path.string(), kRadiusArray);
+  vtkNew<vtkPolyData> pd;
+  pd->SetPoints(make_points(particles, nullptr));
+  // One vertex cell per point, built directly as offsets + connectivity.
+  const auto n = static_cast<vtkIdType>(particles.size());
+  vtkNew<vtkIdTypeArray> offsets, conn;
+  offsets->SetNumberOfValues(n + 1);
+  conn->SetNumberOfValues(n);
+  for (vtkIdType i = 0; i < n; ++i) {
+    offsets->SetValue(i, i);
+    conn->SetValue(i, i);
+  }
+  offsets->SetValue(n, n);
+  vtkNew<vtkCellArray> verts;
+  verts->SetData(offsets, conn);
+  pd->SetVerts(verts);
+  for (const auto& a : particles.point_data) pd->GetPointData()->AddArray(to_vtk(a));
+  add_field_data(pd, particles);
+  write_polydata(path, pd);
+}
+
+void write_lines(const std::filesystem::path& path, const PointCloud& points, const LineSet& lines) {
+  validate(points, &lines);
+  // Keep only the points some line uses, in their original order.
+  std::vector<std::int64_t> new_index(points.size(), -1);
+  for (auto e : lines.ends) new_index[e] = 0;
+  std::vector<std::size_t> pick;
+  for (std::size_t i = 0; i < new_index.size(); ++i)
+    if (new_index[i] == 0) {
+      new_index[i] = static_cast<std::int64_t>(pick.size());
+      pick.push_back(i);
+    }
+  vtkNew<vtkPolyData> pd;
+  pd->SetPoints(make_points(points, &pick));
+  const auto m = static_cast<vtkIdType>(lines.size());
+  vtkNew<vtkIdTypeArray> offsets, conn;
+  offsets->SetNumberOfValues(m + 1);
+  conn->SetNumberOfValues(2 * m);
+  for (vtkIdType i = 0; i < m; ++i) {
+    offsets->SetValue(i, 2 * i);
+    conn->SetValue(2 * i, new_index[lines.ends[2 * i]]);
+    conn->SetValue(2 * i + 1, new_index[lines.ends[2 * i + 1]]);
+  }
+  offsets->SetValue(m, 2 * m);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, conn);
+  pd->SetLines(cells);
+  for (const auto& a : points.point_data) pd->GetPointData()->AddArray(to_vtk(a, &pick));
+  for (const auto& a : lines.cell_data) pd->GetCellData()->AddArray(to_vtk(a));
+  add_field_data(pd, points);
+  write_polydata(path, pd);
+}
+
+VtpContents read_vtp(const std::filesystem::path& path) {
+  STRATA_CHECK(std::filesystem::exists(path), IO, "cannot read {}: no such file", path.string());
+  vtkNew<vtkXMLPolyDataReader> r;
+  r->SetFileName(path.c_str());
+  r->Update();
+  STRATA_CHECK(r->GetErrorCode() == 0 && r->GetOutput(), IO, "VTK could not read {}", path.string());
+  vtkPolyData* pd = r->GetOutput();
+  VtpContents out;
+  auto& cloud = out.points;
+  const vtkIdType n = pd->GetNumberOfPoints();
+  cloud.xyz.resize(3 * static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i) pd->GetPoint(i, &cloud.xyz[3 * i]);
+  for (int k = 0; k < pd->GetPointData()->GetNumberOfArrays(); ++k)
+    if (auto* d = pd->GetPointData()->GetArray(k)) cloud.point_data.push_back(from_vtk(d));
+  cloud.dim = 3;
+  if (auto* fd = pd->GetFieldData()) {
+    if (auto* d = fd->GetArray("dimension"); d && d->GetNumberOfTuples() > 0)
+      cloud.dim = static_cast<int>(d->GetComponent(0, 0));
+    if (auto* d = fd->GetArray("TimeValue"); d && d->GetNumberOfTuples() > 0)
+      cloud.time = d->GetComponent(0, 0);
+    if (auto* d = fd->GetArray("step"); d && d->GetNumberOfTuples() > 0)
+      cloud.step = static_cast<std::int64_t>(d->GetComponent(0, 0));
+  }
+  if (vtkCellArray* lines = pd->GetLines(); lines && lines->GetNumberOfCells() > 0) {
+    const vtkIdType first_line = pd->GetNumberOfVerts();
+    auto it = vtk::TakeSmartPointer(lines->NewIterator());
+    for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell()) {
+      vtkIdType np;
+      const vtkIdType* ids;
+      it->GetCurrentCell(np, ids);
+      STRATA_CHECK(np == 2, IO, "{}: line cell with {} points (only 2-point lines are read)", path.string(),
+                   np);
+      out.lines.ends.push_back(ids[0]);
+      out.lines.ends.push_back(ids[1]);
+    }
+    // Cell data of a PolyData is ordered verts, lines, polys, strips: take the line part.
+    const auto m = static_cast<vtkIdType>(out.lines.size());
+    for (int k = 0; k < pd->GetCellData()->GetNumberOfArrays(); ++k) {
+      auto* d = pd->GetCellData()->GetArray(k);
+      if (!d) continue;
+      Array a = from_vtk(d);
+      const auto c = static_cast<std::size_t>(a.components);
+      a.values =
+          std::vector<double>(a.values.begin() + first_line * c, a.values.begin() + (first_line + m) * c);
+      out.lines.cell_data.push_back(std::move(a));
+    }
+  }
+  return out;
+}
+
+#else  // !STRATA_WITH_VTK
+
+void write_particles(const std::filesystem::path&, const PointCloud&) {
+  fail_missing_feature("STRATA_WITH_VTK", "VTK time series");
+}
+void write_lines(const std::filesystem::path&, const PointCloud&, const LineSet&) {
+  fail_missing_feature("STRATA_WITH_VTK", "VTK time series");
+}
+VtpContents read_vtp(const std::filesystem::path&) {
+  fail_missing_feature("STRATA_WITH_VTK", "VTK time series");
+}
+
+#endif
+
+}  // namespace strata::io

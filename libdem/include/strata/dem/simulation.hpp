@@ -1,0 +1,205 @@
+#pragma once
+/// Bonded-particle DEM (SPEC C1): 2D disks or 3D spheres without rotation, solid-lattice
+/// bonds that break in tension or shear, frictional contacts, leapfrog integration,
+/// damping, boundary conditions on named groups, probes, and a checked time step.
+///
+/// `Simulation` is the run-time-dimension front end; the work is done by `Model<D>`
+/// (libdem/src/model.hpp), a structure-of-arrays model whose step loop computes every pair
+/// force exactly once and sums forces per particle in a fixed order, so results are bit-for-
+/// bit the same for any number of threads. See docs/dem.md for the physics and the design.
+///
+/// Indices: `add_particle` returns the particle's id (0, 1, 2, ... in the order of the
+/// calls). Every function taking particle indices takes ids. Read-access functions return
+/// arrays in the model's internal (spatially sorted) order together with `ids()`.
+#include <strata/dem/laws.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace strata::dem {
+
+/// Material of a particle; bonds and contacts between two materials use the pair rule in
+/// docs/dem.md (series stiffness, weaker strength, smaller friction).
+struct Material {
+  double density = 0;  ///< kg/m² in 2D (per unit thickness), kg/m³ in 3D
+  double kn = 0;       ///< normal stiffness Kn (N/m)
+  double ks = 0;       ///< shear stiffness Ks (N/m)
+  double friction = 0; ///< friction coefficient μ of broken bonds and contacts
+  double tensile_strength = std::numeric_limits<double>::infinity();  ///< Fn_max (N)
+  double shear_strength = std::numeric_limits<double>::infinity();    ///< Fs0 (N)
+  /// false (default, SPEC C1 "paper" form): an intact bond breaks in shear when |Fs| > Fs0.
+  /// true: the limit is Fs0 + μ·max(Fn, 0).
+  bool friction_strengthens_bonds = false;
+};
+
+/// Axes masks for boundary conditions.
+enum Axes : unsigned { kX = 1, kY = 2, kZ = 4, kXY = 3, kXYZ = 7 };
+
+/// How a bond broke.
+enum class BreakMode : std::uint8_t { Tension = 1, Shear = 2 };
+
+/// Kind of a bond or contact (see pair_state in laws.hpp).
+enum class PairKind : std::uint8_t { Intact = 0, BrokenTension = 1, BrokenShear = 2, Contact = 3 };
+
+/// One bond break.
+struct BreakEvent {
+  std::int64_t step;                ///< step during which it broke (0-based)
+  std::array<double, 3> position;   ///< midpoint of the two centres at that step
+  BreakMode mode;
+  std::uint32_t id_i, id_j;         ///< particle ids
+};
+
+/// Run settings.
+struct Settings {
+  double dt = 0;                    ///< time step (s)
+  bool allow_unstable = false;      ///< dt > critical_dt() warns instead of throwing
+  enum class Damping { None, Viscous, Local };
+  Damping damping = Damping::None;
+  double viscous_c = 0;             ///< artificial viscosity c (N·s/m): F -= c·v (SPEC C1)
+  double local_alpha = 0.7;         ///< local non-viscous damping α in [0,1): F -= α|F|sign(v)
+  std::array<double, 3> gravity{};  ///< body acceleration (m/s²)
+  bool contact_detection = true;    ///< search for new contacts between unbonded particles
+  int energy_check_every = 1000;    ///< blow-up check cadence in steps (<= 0: never)
+  double skin = 0;                  ///< Verlet skin (m); 0: half the largest radius
+};
+
+/// A bond or contact as seen by writers.
+struct PairView {
+  std::uint32_t i, j;  ///< internal indices (see ids())
+  PairKind kind;
+  bool touching;       ///< broken bond / contact currently in contact
+  bool reclosed;       ///< broken bond that opened and has closed again
+  double fn;           ///< normal force (N, compression positive) at the last step's state
+  double fs;           ///< magnitude of the shear force (N)
+};
+
+namespace detail {
+class ModelBase;
+}
+
+/// The DEM model and its time loop, dimension chosen at construction (2 or 3).
+class Simulation {
+ public:
+  Simulation(int dim, Settings settings);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  int dim() const;
+  const Settings& settings() const;
+
+  // ---- building the model -----------------------------------------------------------
+  /// Adds a material; returns its index.
+  int add_material(const Material& m);
+  /// Reserves space for n particles (avoids growth peaks in memory while building).
+  void reserve(std::size_t n);
+  /// Adds a particle at rest; returns its id. mass <= 0: density × cell measure (2D:
+  /// (√3/2)·d², the hex cell area, SPEC C1; 3D: d³/√2, the close-packed cell volume).
+  std::size_t add_particle(std::array<double, 3> x, double radius, int material,
+                           std::uint32_t groups = 0, double mass = 0);
+  std::size_t particle_count() const;
+  /// Bonds every pair with |xi - xj| <= (ri + rj)(1 + tolerance). O(N) with a cell grid.
+  void bond_touching_pairs(double tolerance = 1e-6);
+  /// Sets the velocity of particle `id` (initial conditions).
+  void set_velocity(std::size_t id, std::array<double, 3> v);
+
+  // ---- groups (at most 32 names) ------------------------------------------------------
+  /// Bit index of a named group, created on first use.
+  int group_bit(const std::string& name);
+  /// Adds the particles with these ids to the group.
+  void add_to_group(const std::vector<std::uint32_t>& ids, const std::string& name);
+  /// Ids of the particles in a group, ascending.
+  std::vector<std::uint32_t> group_members(const std::string& name) const;
+
+  // ---- boundary conditions (later calls override earlier ones per axis) ---------------
+  /// Fixes the given axes of the group's particles.
+  void fix(const std::string& group, unsigned axes);
+  /// Moves the group's particles at velocity v along the given axes (other axes free).
+  void prescribe_velocity(const std::string& group, std::array<double, 3> v, unsigned axes);
+  /// Holds the group fixed along the increment's non-zero axes and moves it by `increment`
+  /// once every `every_steps` steps (SPEC C1 platens: 1.9e-9 m every 400 steps).
+  void step_displacement(const std::string& group, std::array<double, 3> increment,
+                         std::int64_t every_steps);
+  /// Force on each particle of the group, piecewise linear in time between (times, forces),
+  /// constant outside. A particle takes the last history given for one of its groups.
+  void force_history(const std::string& group, std::vector<double> times,
+                     std::vector<std::array<double, 3>> forces);
+  /// Rigid frictionless plane through `point` with unit normal pointing to the particles'
+  /// side, moving at `velocity`; penalty force k·δ·n with δ = r - (x - p)·n > 0.
+  void add_wall(std::array<double, 3> point, std::array<double, 3> normal,
+                std::array<double, 3> velocity, double stiffness);
+
+  // ---- running -------------------------------------------------------------------------
+  /// Sorts particles spatially, builds search structures, computes critical_dt() and
+  /// checks dt (strata::Error(Numerical) when dt > critical_dt() and !allow_unstable).
+  void initialise();
+  /// Critical time step 2/√λmax of the bonded lattice (see docs/dem.md).
+  double critical_dt() const;
+  /// Rigorous upper bound of λmax(M⁻¹K) (1/s²): max_i λmax(2·Σ_b K_b)/m_i.
+  double lambda_bound() const;
+  /// Lanczos estimate of λmax(M⁻¹K) (1/s²) used for critical_dt (with a 1 % margin).
+  double lambda_estimate() const;
+  double dt() const;
+  /// Changes the time step (checked against critical_dt() like initialise()).
+  void set_dt(double dt);
+  /// Runs n steps; throws strata::Error(Numerical) on blow-up (NaN/inf or runaway energy).
+  void run(std::int64_t steps);
+  std::int64_t step_count() const;
+  double time() const;
+  /// Step of the last passed blow-up check.
+  std::int64_t last_good_step() const;
+
+  // ---- probes ------------------------------------------------------------------------
+  /// Sum of the internal (bond, contact, wall) forces on the group's particles at the
+  /// current state; the reaction a platen group carries is minus this.
+  std::array<double, 3> group_force(const std::string& group) const;
+  /// Kinetic energy ½Σm·v(n-½)·v(n+½) at the last step (J).
+  double kinetic_energy() const;
+  /// Stored energy of intact bonds, touching contacts and walls at the last step (J).
+  double bond_energy() const;
+  /// Work done on the particles by prescribed motion, applied forces, walls and gravity (J).
+  double external_work() const;
+  /// Energy removed by damping (J).
+  double damping_dissipation() const;
+  std::size_t broken_count(BreakMode mode) const;
+  std::size_t broken_count() const;
+  std::size_t bond_count() const;
+  /// Broken bonds and contacts currently touching.
+  std::size_t contact_count() const;
+  /// All bond breaks so far, ordered by (step, particle ids).
+  const std::vector<BreakEvent>& breaks() const;
+  /// Pairs (id_i < id_j) whose disks/spheres overlap now, found through the contact lists
+  /// and bonds (for tests of the search against brute force).
+  std::vector<std::array<std::uint32_t, 2>> touching_pairs() const;
+
+  // ---- read access for writers (internal order) --------------------------------------
+  std::vector<std::array<double, 3>> positions() const;
+  std::vector<std::array<double, 3>> velocities() const;
+  std::vector<std::array<double, 3>> displacements() const;
+  std::vector<double> radii() const;
+  std::vector<std::uint32_t> ids() const;
+  std::vector<std::uint32_t> group_bits() const;
+  /// Fraction of each particle's initial bonds that are broken.
+  std::vector<float> damage() const;
+  std::vector<PairView> bonds() const;
+  std::vector<PairView> contacts() const;
+  /// Bytes held by the model's arrays (capacity).
+  std::size_t memory_bytes() const;
+  /// FNV-1a hash of positions, velocities, bond states and shear displacements.
+  std::uint64_t state_hash() const;
+
+ private:
+  std::unique_ptr<detail::ModelBase> m_;
+};
+
+/// λmax of the infinite 2D hex lattice (1/s²) for equal masses m, from the dynamical matrix
+/// over the Brillouin zone. For Kn >= 2Ks (e.g. SPEC C1) it is (6Kn+2Ks)/m (the M point);
+/// for Kn = Ks it is 9Kn/m (the K point); in between the maximum lies on the M-K edge.
+double hex_lattice_lambda_max(double kn, double ks, double mass);
+
+}  // namespace strata::dem

@@ -1,0 +1,204 @@
+// Lattices, bond counts and the critical time step (SPEC C1, C2).
+#include "dem_test_util.hpp"
+
+#include <strata/preprocess/lattice.hpp>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <random>
+
+using namespace strata;
+using namespace strata::dem;
+using namespace strata::dem::test;
+
+TEST(Lattice, C1SpecimenHas1033DisksIn35Rows) {
+  // SPEC C1: 30.0 x 30.5 mm box, d = 1 mm -> 1033 disks, 35 rows alternating 30 and 29.
+  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
+  EXPECT_EQ(lat.size(), 1033u);
+  std::map<int, int> per_row;
+  for (auto r : lat.row) per_row[r]++;
+  ASSERT_EQ(per_row.size(), 35u);
+  for (const auto& [r, c] : per_row) EXPECT_EQ(c, r % 2 ? 29 : 30) << "row " << r;
+  EXPECT_EQ(preprocess::top_row(lat).size(), 30u);  // row 34 is even
+  EXPECT_EQ(preprocess::bottom_row(lat).size(), 30u);
+  EXPECT_EQ(preprocess::left_column(lat).size(), 35u);
+  EXPECT_EQ(preprocess::right_column(lat).size(), 35u);
+  // the rows x columns form gives the same block
+  const auto lat2 = preprocess::hex2d_rows(35, 30, kC1d);
+  ASSERT_EQ(lat2.size(), lat.size());
+  for (std::size_t i = 0; i < lat.size(); ++i)
+    for (int a = 0; a < 2; ++a) EXPECT_NEAR(lat.x[i][a], lat2.x[i][a], 1e-15);
+}
+
+TEST(Lattice, HexBlockBondCount) {
+  // 35 rows alternating 30/29: in-row bonds 18·29 + 17·28 = 998, between rows 34·2·29 = 1972.
+  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
+  Simulation sim(2, Settings{.dt = 1e-8});
+  add_lattice(sim, lat, sim.add_material(c1_material()));
+  sim.bond_touching_pairs();
+  EXPECT_EQ(sim.bond_count(), 2970u);
+}
+
+TEST(Lattice, ClosePackedCoordination) {
+  // Interior spheres of HCP and FCC have 12 touching neighbours; layer spacing d·√(2/3).
+  for (auto packing : {preprocess::Packing::HCP, preprocess::Packing::FCC}) {
+    const auto lat = preprocess::close_packed_box(packing, {0, 0, 0}, {8e-3, 8e-3, 8e-3}, kC1d);
+    Simulation sim(3, Settings{.dt = 1e-8});
+    add_lattice(sim, lat, sim.add_material(c1_material()));
+    sim.bond_touching_pairs();
+    const auto bonds = sim.bonds();
+    std::vector<int> z(lat.size(), 0);
+    for (const auto& b : bonds) {
+      z[b.i]++;
+      z[b.j]++;
+    }
+    const auto pos = sim.positions();
+    int interior = 0;
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      bool inside = true;
+      for (int a = 0; a < 3; ++a) inside = inside && pos[i][a] > 2e-3 && pos[i][a] < 6e-3;
+      if (inside) {
+        ++interior;
+        EXPECT_EQ(z[i], 12);
+      }
+    }
+    EXPECT_GT(interior, 20);
+    // every distance between bonded centres is d (exact lattice)
+    for (const auto& b : bonds) {
+      double l2 = 0;
+      for (int a = 0; a < 3; ++a) l2 += std::pow(pos[b.j][a] - pos[b.i][a], 2);
+      EXPECT_NEAR(std::sqrt(l2), kC1d, 1e-12);
+    }
+  }
+}
+
+TEST(Lattice, HexLambdaFormulaMatchesBrillouinZoneScan) {
+  // Dynamical matrix D(k) = Σ_b 2(1 - cos k·a_b) K_b over the three bond directions; its
+  // largest eigenvalue over a fine k grid must equal max(6Kn+2Ks, 2Kn+6Ks, 4.5(Kn+Ks))
+  // (the M and K points) to 1e-4 (grid resolution) and never exceed it (1e-12).
+  const double s3 = std::sqrt(3.0);
+  const Eigen::Vector2d a[3] = {{1, 0}, {0.5, s3 / 2}, {-0.5, s3 / 2}};
+  for (auto [kn, ks] : {std::pair{6.587, 2.371}, {1.0, 1.0}, {1.0, 0.0}, {1.0, 0.6}, {0.3, 1.0}}) {
+    double best = 0;
+    const int n = 301;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        const Eigen::Vector2d k(4 * std::numbers::pi * i / (n - 1), 4 * std::numbers::pi * j / (n - 1));
+        Eigen::Matrix2d Dm = Eigen::Matrix2d::Zero();
+        for (const auto& nb : a) {
+          const Eigen::Matrix2d Kb = kn * nb * nb.transpose() + ks * (Eigen::Matrix2d::Identity() - nb * nb.transpose());
+          Dm += 2 * (1 - std::cos(k.dot(nb))) * Kb;
+        }
+        best = std::max(best, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(Dm).eigenvalues()(1));
+      }
+    const double refined = hex_lattice_lambda_max(kn, ks, 1.0);
+    EXPECT_LE(best, refined * (1 + 1e-12));
+    EXPECT_GE(best, refined * (1 - 1e-3));
+  }
+  // For C1 (Kn >= 2Ks) the maximum is the M point: (6Kn+2Ks)/m (SPEC C1); for Kn = Ks it
+  // is the K point, 9Kn/m, above 6Kn+2Ks = 8Kn: the SPEC formula holds only for Kn >~ 2Ks.
+  EXPECT_NEAR(hex_lattice_lambda_max(6.587e10, 2.371e10, 1.0) / (6 * 6.587e10 + 2 * 2.371e10), 1.0, 1e-12);
+  EXPECT_NEAR(hex_lattice_lambda_max(1.0, 1.0, 1.0), 9.0, 1e-12);
+}
+
+TEST(CriticalDt, C1Specimen) {
+  // SPEC C1: dt_crit = 2·√(m/(6Kn+2Ks)) = 1.44e-7 s for the infinite lattice. The finite
+  // block's λmax is at most the infinite lattice's (interlacing), the Lanczos estimate is
+  // used with a 1 % margin: expect dt_crit within 1 % of the SPEC value.
+  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
+  Simulation sim(2, Settings{.dt = 2e-8});
+  add_lattice(sim, lat, sim.add_material(c1_material()));
+  sim.bond_touching_pairs();
+  sim.initialise();
+  const double spec = 2 * std::sqrt(c1_mass() / (6 * 6.587e10 + 2 * 2.371e10));
+  EXPECT_NEAR(spec, 1.44e-7, 0.005e-7);
+  EXPECT_NEAR(sim.critical_dt() / spec, 1.0, 0.01);
+  EXPECT_LE(sim.lambda_estimate(), hex_lattice_lambda_max(6.587e10, 2.371e10, c1_mass()) * (1 + 1e-9));
+  // the paper's dt is 0.14 of it
+  EXPECT_NEAR(2e-8 / sim.critical_dt(), 0.14, 0.005);
+}
+
+TEST(CriticalDt, RefusesUnstableStep) {
+  const auto lat = preprocess::hex2d_rows(6, 6, kC1d);
+  Simulation sim(2, Settings{.dt = 1e-6});
+  add_lattice(sim, lat, sim.add_material(c1_material()));
+  sim.bond_touching_pairs();
+  try {
+    sim.initialise();
+    FAIL() << "dt above dt_crit accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Numerical);
+    EXPECT_NE(std::string(e.what()).find("critical"), std::string::npos);
+  }
+  Simulation ok(2, Settings{.dt = 1e-6, .allow_unstable = true});
+  add_lattice(ok, lat, ok.add_material(c1_material()));
+  ok.bond_touching_pairs();
+  EXPECT_NO_THROW(ok.initialise());
+}
+
+namespace {
+// λmax(M⁻¹K) by a dense eigen-solve of the bonded model's stiffness matrix.
+double dense_lambda(const Simulation& sim, const std::vector<double>& mass, double kn, double ks) {
+  const int D = sim.dim();
+  const auto pos = sim.positions();
+  const std::size_t n = pos.size();
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n * D, n * D);
+  for (const auto& b : sim.bonds()) {
+    Eigen::VectorXd nv(D);
+    for (int a = 0; a < D; ++a) nv(a) = pos[b.j][a] - pos[b.i][a];
+    nv.normalize();
+    const Eigen::MatrixXd Kb = (kn - ks) * nv * nv.transpose() + ks * Eigen::MatrixXd::Identity(D, D);
+    K.block(b.i * D, b.i * D, D, D) += Kb;
+    K.block(b.j * D, b.j * D, D, D) += Kb;
+    K.block(b.i * D, b.j * D, D, D) -= Kb;
+    K.block(b.j * D, b.i * D, D, D) -= Kb;
+  }
+  Eigen::VectorXd s(n * D);
+  for (std::size_t i = 0; i < n; ++i)
+    for (int a = 0; a < D; ++a) s(i * D + a) = 1 / std::sqrt(mass[i]);
+  const Eigen::MatrixXd A = s.asDiagonal() * K * s.asDiagonal();
+  return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(A, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+}
+
+void check_bounds_against_dense(int dim, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1), um(0.5, 2.0);
+  preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(8, 8, kC1d)
+                                     : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
+                                                                    {4.2e-3, 4.2e-3, 4.2e-3}, kC1d);
+  const Material m = c1_material();
+  Simulation sim(dim, Settings{.dt = 1e-12});
+  const int mat = sim.add_material(m);
+  std::vector<double> mass_by_id;
+  for (auto p : lat.x) {
+    for (int a = 0; a < dim; ++a) p[a] += 0.04 * kC1d * u(rng);  // ±4 % perturbation
+    const double ms = c1_mass() * um(rng);                      // unequal masses
+    mass_by_id.push_back(ms);
+    sim.add_particle(p, lat.radius, mat, 0, ms);
+  }
+  sim.bond_touching_pairs(0.15);  // bonds between the perturbed neighbours
+  sim.initialise();
+  std::vector<double> mass(mass_by_id.size());
+  const auto ids = sim.ids();
+  for (std::size_t i = 0; i < ids.size(); ++i) mass[i] = mass_by_id[ids[i]];
+  const double truth = dense_lambda(sim, mass, m.kn, m.ks);
+  SCOPED_TRACE(::testing::Message() << "dim " << dim << " seed " << seed << " particles " << lat.size());
+  // rigorous bound: never below the truth (1e-12 for round-off)
+  EXPECT_GE(sim.lambda_bound(), truth * (1 - 1e-12));
+  // Lanczos converges on a small model: within 1e-6 of the truth, never above it by more
+  EXPECT_NEAR(sim.lambda_estimate() / truth, 1.0, 1e-6);
+  // the step used is on the safe side: dt_crit <= 2/√λtrue
+  EXPECT_LE(sim.critical_dt(), 2 / std::sqrt(truth) * (1 + 1e-12));
+}
+}  // namespace
+
+TEST(CriticalDt, BoundsAgainstDenseEigenSolve2D) {
+  for (unsigned seed : {1u, 2u, 3u}) check_bounds_against_dense(2, seed);
+}
+TEST(CriticalDt, BoundsAgainstDenseEigenSolve3D) {
+  for (unsigned seed : {1u, 2u}) check_bounds_against_dense(3, seed);
+}

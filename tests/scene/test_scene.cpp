@@ -1,0 +1,576 @@
+// Scene files: parsing, defaults, paths, `--set` overrides, and the exact error messages users see.
+#include <gtest/gtest.h>
+
+#include <strata/core/error.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "scene/scene.hpp"
+
+namespace fs = std::filesystem;
+using strata::scene::Scene;
+
+namespace {
+
+// A small valid 2D scene. The line numbers matter: the tests below point at them.
+const std::string kBase = R"toml([scene]
+title = "test"
+dimension = 2
+
+[[material]]
+name = "rock"
+density = 2650
+kn = 6.5e10
+ks = 2.4e10
+
+[[region]]
+name = "specimen"
+material = "rock"
+diameter = 0.001
+size = [0.03, 0.03]
+
+[[group]]
+name = "top"
+select = "top_row"
+
+[[group]]
+name = "bottom"
+select = "bottom_row"
+
+[[boundary]]
+group = "bottom"
+type = "fixed"
+
+[solver]
+dt = 2e-8
+steps = 1000
+)toml";
+
+/// kBase with the first occurrence of `from` replaced by `to`.
+std::string edit(const std::string& from, const std::string& to, std::string text = kBase) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "kBase has no '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+/// The message of the Input error that parsing `text` throws, or "no error".
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {},
+                     const fs::path& file = "scene.toml") {
+  try {
+    strata::scene::parse(text, file, sets);
+  } catch (const strata::Error& e) {
+    EXPECT_EQ(e.kind(), strata::ErrorKind::Input) << e.what();
+    return e.what();
+  }
+  return "no error";
+}
+
+/// A fresh, empty folder for scene and geometry files, removed afterwards.
+class TempDir {
+ public:
+  TempDir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    path_ = fs::temp_directory_path() /
+            (std::string("strata_scene_") + info->test_suite_name() + "_" + info->name() + "_" +
+             std::to_string(std::hash<std::string>{}(fs::current_path().string())));
+    fs::remove_all(path_);
+    fs::create_directories(path_);
+    path_ = fs::canonical(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  const fs::path& path() const { return path_; }
+  fs::path write(const std::string& name, const std::string& text) const {
+    const fs::path p = path_ / name;
+    fs::create_directories(p.parent_path());
+    std::ofstream(p) << text;
+    return p;
+  }
+
+ private:
+  fs::path path_;
+};
+
+const std::string kMaterialKeys =
+    "name, law, density, kn, ks, friction, tensile_strength, shear_strength, friction_strengthens_bonds";
+const std::string kSolverKeys =
+    "dt, dt_safety, steps, duration, damping, viscous_c, local_damping, gravity, contact_detection, "
+    "allow_unstable, threads";
+
+}  // namespace
+
+// ---- valid scenes ----------------------------------------------------------------------------
+
+TEST(SceneLoad, FullSceneParsesWithDefaultsAndResolvedPaths) {
+  TempDir dir;
+  dir.write("geom/specimen.geo", "// gmsh geometry\n");
+  const fs::path file = dir.write("case/../scene.toml", R"toml([scene]
+title = "Uniaxial compression (SPEC C1)"
+dimension = 2
+
+[[material]]
+name = "rock"
+density = 2.65e3
+kn = 6.587e10
+ks = 2.371e10
+friction = 0.239
+tensile_strength = 1.252e4
+shear_strength = 3.690e4
+
+[[material]]
+name = "soft"
+density = 2000
+kn = 1e9
+ks = 0
+
+[[region]]
+name = "specimen"
+material = "rock"
+diameter = 0.001
+size = [0.030, 0.0304]
+
+[[region]]
+name = "far_field"
+kind = "fem"
+material = "soft"
+shape = "file"
+file = "geom/specimen.geo"
+
+[[group]]
+name = "top"
+region = "specimen"
+select = "top_row"
+
+[[group]]
+name = "bottom"
+select = "bottom_row"
+
+[[boundary]]
+group = "top"
+type = "step_displacement"
+axes = ["y"]
+increment = [0.0, -1.9e-9]
+every = 400
+
+[[load]]
+group = "top"
+times = [0, 1e-5, 2.5e-5]
+forces = [[0, 0], [0, -1.07e5], [0, 0]]
+per = "group"
+
+[[wall]]
+name = "platen"
+point = [0, 0.0304]
+normal = [0, -1]
+
+[solver]
+dt = 2e-8
+steps = 3.2e7
+damping = "viscous"
+viscous_c = 1.16e3
+
+[output]
+directory = "results"
+fields = ["displacement", "damage"]
+
+[probe]
+stress_strain = true
+)toml");
+  const Scene s = strata::scene::load(file);
+  EXPECT_EQ(s.file, file);
+  EXPECT_EQ(s.dir, file.parent_path().lexically_normal());
+
+  const auto& scene = s.table("scene");
+  EXPECT_EQ(scene.str("title"), "Uniaxial compression (SPEC C1)");
+  EXPECT_EQ(scene.integer("dimension"), 2);
+  EXPECT_EQ(scene.real("thickness"), 1.0);  // default
+  EXPECT_FALSE(scene.given("thickness"));
+  EXPECT_EQ(scene.integer("seed"), 1);
+
+  ASSERT_EQ(s.tables("material").size(), 2u);
+  const auto& rock = s.tables("material")[0];
+  EXPECT_EQ(rock.label(), "material[0]");
+  EXPECT_EQ(rock.str("law"), "solid_lattice");
+  EXPECT_EQ(rock.real("density"), 2650.0);
+  EXPECT_EQ(rock.real("kn"), 6.587e10);
+  EXPECT_EQ(rock.real("friction"), 0.239);
+  EXPECT_EQ(rock.real("tensile_strength"), 1.252e4);
+  EXPECT_FALSE(rock.boolean("friction_strengthens_bonds"));
+  const auto& soft = s.tables("material")[1];
+  EXPECT_EQ(soft.real("ks"), 0.0);  // an integer where a real is expected
+  EXPECT_EQ(soft.real("tensile_strength"), std::numeric_limits<double>::infinity());  // default: never breaks
+  EXPECT_EQ(soft.real("friction"), 0.0);
+
+  ASSERT_EQ(s.tables("region").size(), 2u);
+  const auto& specimen = s.tables("region")[0];
+  EXPECT_EQ(specimen.str("kind"), "particles");
+  EXPECT_EQ(specimen.str("lattice"), "auto");
+  EXPECT_EQ(specimen.str("shape"), "box");
+  EXPECT_EQ(specimen.reals("size"), (std::vector<double>{0.030, 0.0304}));
+  EXPECT_EQ(specimen.reals("origin"), (std::vector<double>{0.0, 0.0}));  // 3D default cut to 2D
+  EXPECT_FALSE(specimen.given("origin"));
+  EXPECT_EQ(specimen.where("origin").str(), file.string() + ":20:1");  // defaulted: the table header
+  EXPECT_EQ(specimen.where("size").str(), file.string() + ":24:8");
+  EXPECT_FALSE(specimen.has("radius"));
+  EXPECT_EQ(specimen.real("orientation"), 0.0);
+  const auto& far = s.tables("region")[1];
+  EXPECT_EQ(far.path("file"), dir.path() / "geom" / "specimen.geo");  // relative to the scene file
+  EXPECT_FALSE(far.has("diameter"));  // not needed by kind = "fem"
+  EXPECT_EQ(far.real("mesh_size"), 0.0);
+
+  const auto& top = s.tables("group")[0];
+  EXPECT_EQ(top.str("region"), "specimen");
+  EXPECT_EQ(s.tables("group")[1].str("region"), "");  // all regions
+
+  const auto& platen = s.tables("boundary")[0];
+  EXPECT_EQ(platen.strings("axes"), (std::vector<std::string>{"y"}));
+  EXPECT_EQ(platen.reals("increment"), (std::vector<double>{0.0, -1.9e-9}));
+  EXPECT_EQ(platen.integer("every"), 400);
+
+  const auto& pulse = s.tables("load")[0];
+  EXPECT_EQ(pulse.str("type"), "force_history");
+  EXPECT_EQ(pulse.reals("times"), (std::vector<double>{0.0, 1e-5, 2.5e-5}));
+  EXPECT_EQ(pulse.real_table("forces")[1], (std::vector<double>{0.0, -1.07e5}));
+  EXPECT_EQ(pulse.str("per"), "group");
+
+  ASSERT_EQ(s.tables("wall").size(), 1u);
+  EXPECT_EQ(s.tables("wall")[0].reals("velocity"), (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(s.tables("wall")[0].real("stiffness"), 0.0);
+
+  const auto& solver = s.table("solver");
+  EXPECT_EQ(solver.real("dt"), 2e-8);
+  EXPECT_EQ(solver.integer("steps"), 32000000);  // 3.2e7: a real with no fraction is a fine count
+  EXPECT_EQ(solver.real("dt_safety"), 0.2);
+  EXPECT_EQ(solver.str("damping"), "viscous");
+  EXPECT_EQ(solver.real("local_damping"), 0.7);
+  EXPECT_EQ(solver.reals("gravity"), (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(solver.str("contact_detection"), "auto");
+  EXPECT_FALSE(solver.boolean("allow_unstable"));
+  EXPECT_EQ(solver.integer("threads"), 0);
+
+  const auto& output = s.table("output");
+  EXPECT_EQ(output.path("directory"), dir.path() / "results");
+  EXPECT_EQ(output.integer("frames"), 20);
+  EXPECT_EQ(output.strings("fields"), (std::vector<std::string>{"displacement", "damage"}));
+  EXPECT_EQ(output.str("render_field"), "damage");
+  EXPECT_TRUE(output.boolean("movie"));
+
+  const auto& probe = s.table("probe");
+  EXPECT_TRUE(probe.boolean("stress_strain"));
+  EXPECT_EQ(probe.str("top_group"), "top");
+  EXPECT_EQ(probe.str("axis"), "y");
+}
+
+TEST(SceneLoad, AbsentPlainTablesHoldTheirDefaults) {
+  const Scene s = strata::scene::parse(kBase, "scene.toml");
+  const auto& output = s.table("output");
+  EXPECT_FALSE(output.given("directory"));
+  EXPECT_EQ(output.path("directory"), (fs::current_path() / "out").lexically_normal());
+  EXPECT_EQ(output.strings("fields"),
+            (std::vector<std::string>{"id", "radius", "displacement", "velocity", "force", "group", "damage"}));
+  EXPECT_EQ(output.where().str(), "scene.toml:1:1");
+  EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"x", "y"}));
+  EXPECT_FALSE(s.table("probe").boolean("stress_strain"));
+}
+
+TEST(SceneLoad, ThreeDimensionalDefaultsKeepThreeComponents) {
+  std::string text = edit("dimension = 2", "dimension = 3");
+  text = edit("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]", text);
+  const Scene s = strata::scene::parse(text, "scene.toml");
+  EXPECT_EQ(s.tables("region")[0].reals("origin"), (std::vector<double>{0.0, 0.0, 0.0}));
+  EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"x", "y", "z"}));
+}
+
+TEST(SceneLoad, MissingSceneFileIsAnInputError) {
+  TempDir dir;
+  const fs::path file = dir.path() / "nothing.toml";
+  try {
+    strata::scene::load(file);
+    FAIL() << "no error";
+  } catch (const strata::Error& e) {
+    EXPECT_EQ(e.kind(), strata::ErrorKind::Input);
+    EXPECT_EQ(std::string(e.what()),
+              file.string() + ": cannot read the scene file (looked for " + file.string() + ")");
+  }
+}
+
+// ---- the four acceptance errors --------------------------------------------------------------
+
+TEST(SceneErrors, FourAcceptanceErrorsHaveExactPositionsAndDifferentMessages) {
+  TempDir dir;
+  const fs::path file = dir.path() / "scene.toml";
+
+  const std::string misspelt = error_of(edit("kn = 6.5e10", "kn_typo = 6.5e10"));
+  EXPECT_EQ(misspelt, "scene.toml:8:1: unknown key 'kn_typo' in [[material]]; did you mean 'kn'? (allowed: " +
+                          kMaterialKeys + ")");
+
+  const std::string negative = error_of(edit("kn = 6.5e10", "kn = -5"));
+  EXPECT_EQ(negative, "scene.toml:8:6: kn = -5 must be > 0 (N/m)");
+
+  const std::string wrong_type = error_of(edit("dt = 2e-8", "dt = \"fast\""));
+  EXPECT_EQ(wrong_type, "scene.toml:30:6: dt must be a real number (s), got a string \"fast\"");
+
+  const std::string missing_file = error_of(
+      edit("size = [0.03, 0.03]", "shape = \"file\"\nfile = \"geom/specimen.geo\""), {}, file);
+  EXPECT_EQ(missing_file, file.string() + ":16:8: file 'geom/specimen.geo' not found (looked for " +
+                              (dir.path() / "geom" / "specimen.geo").string() +
+                              "; paths are relative to the scene file)");
+
+  const std::set<std::string> distinct = {misspelt, negative, wrong_type, missing_file};
+  EXPECT_EQ(distinct.size(), 4u);
+}
+
+// ---- other errors ----------------------------------------------------------------------------
+
+TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
+  EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
+            "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
+            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+  EXPECT_EQ(error_of(edit("[[group]]", "[[groups]]")),
+            "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
+            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+}
+
+TEST(SceneErrors, TableWrittenWithTheWrongBrackets) {
+  EXPECT_EQ(error_of(edit("[[region]]", "[region]")),
+            "scene.toml:11:1: [region] must be written [[region]]: it is a list of tables, one per region");
+  EXPECT_EQ(error_of(edit("[solver]", "[[solver]]")),
+            "scene.toml:29:1: [[solver]] must be written [solver]: there is one [solver] table");
+}
+
+TEST(SceneErrors, KeyOutsideAnyTable) {
+  EXPECT_EQ(error_of("seed = 3\n" + kBase), "scene.toml:1:1: key 'seed' is outside any table; it belongs in [scene]");
+}
+
+TEST(SceneErrors, UnknownKeyWithoutACloseMatchListsTheAllowedKeys) {
+  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ncolour = 1")),
+            "scene.toml:32:1: unknown key 'colour' in [solver] (allowed: " + kSolverKeys + ")");
+  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\nseed = 1")),
+            "scene.toml:32:1: unknown key 'seed' in [solver]; 'seed' is a key of [scene] (allowed: " + kSolverKeys +
+                ")");
+}
+
+TEST(SceneErrors, BadChoiceSuggestsTheClosest) {
+  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndamping = \"visous\"")),
+            "scene.toml:32:11: damping = \"visous\" must be one of none, viscous, local; did you mean 'viscous'?");
+  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndamping = \"heavy\"")),
+            "scene.toml:32:11: damping = \"heavy\" must be one of none, viscous, local");
+}
+
+TEST(SceneErrors, MissingRequiredKeyPointsAtTheTableHeader) {
+  EXPECT_EQ(error_of(edit("material = \"rock\"\n", "")),
+            "scene.toml:11:1: [[region]] 'specimen' is missing required key 'material' (the [[material]] that "
+            "fills the region, by name)");
+  EXPECT_EQ(error_of(edit("type = \"fixed\"\n", "")),
+            "scene.toml:25:1: [[boundary]] at index 0 is missing required key 'type' (fixed: held in place; "
+            "velocity: moved at `velocity`; step_displacement: moved by `increment` every `every` steps (SPEC C1 "
+            "moves its platens 1.9e-9 m every 400 steps))");
+  EXPECT_EQ(error_of(edit("dimension = 2\n", "")),
+            "scene.toml:1:1: [scene] is missing required key 'dimension' (2 for a plane model of disks (hexagonal "
+            "lattice), 3 for a model of spheres (close-packed lattice))");
+}
+
+TEST(SceneErrors, MissingRequiredTable) {
+  EXPECT_EQ(error_of(kBase.substr(0, kBase.find("[[material]]")) + kBase.substr(kBase.find("[[region]]"))),
+            "scene.toml:1:1: missing required table [[material]] (a bonded-particle material: density, bond "
+            "stiffnesses and bond strengths of the solid-lattice law (SPEC C1))");
+  EXPECT_EQ(error_of(""), "scene.toml:1:1: missing required table [scene] (what the model is: a title, 2D or 3D, "
+                          "and the random seed)");
+  // A missing table has no position of its own: a problem at a real position is reported first.
+  EXPECT_EQ(error_of("[scene]\ndimension = \"two\"\n"),
+            "scene.toml:2:13: dimension must be an integer, got a string \"two\"");
+}
+
+TEST(SceneErrors, TomlSyntaxErrorKeepsLineAndColumn) {
+  EXPECT_EQ(error_of(edit("kn = 6.5e10", "kn = 6.5e10 N/m")),
+            "scene.toml:8:13: TOML syntax error: Error while parsing key-value pair: expected a comment or "
+            "whitespace, saw 'N'");
+}
+
+TEST(SceneErrors, IntegersAndInfinity) {
+  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1.5")),
+            "scene.toml:31:9: steps must be an integer, got a real number 1.5");
+  EXPECT_EQ(error_of(edit("steps = 1000", "steps = -1")), "scene.toml:31:9: steps = -1 must be >= 0");
+  EXPECT_EQ(error_of(edit("dimension = 2", "dimension = 4")), "scene.toml:3:13: dimension = 4 must be 2 or 3");
+  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndt_safety = 1.5")),
+            "scene.toml:32:13: dt_safety = 1.5 must be > 0 and <= 1");
+  EXPECT_EQ(error_of(edit("ks = 2.4e10", "ks = inf")), "scene.toml:9:6: ks = inf must be finite (N/m)");
+  EXPECT_EQ(error_of(edit("ks = 2.4e10", "ks = nan")), "scene.toml:9:6: ks = nan must be a number (N/m)");
+  const Scene s = strata::scene::parse(edit("ks = 2.4e10", "ks = 2.4e10\nshear_strength = inf"), "scene.toml");
+  EXPECT_TRUE(std::isinf(s.tables("material")[0].real("shear_strength")));
+  EXPECT_TRUE(s.tables("material")[0].given("shear_strength"));
+}
+
+TEST(SceneErrors, WrongTypesInLists) {
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = 0.03")),
+            "scene.toml:15:8: size must be a list of real numbers (m), got a real number 0.03");
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, \"a\"]")),
+            "scene.toml:15:15: size[1] must be a real number (m), got a string \"a\"");
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, -0.03]")),
+            "scene.toml:15:15: size[1] = -0.03 must be > 0 (m)");
+}
+
+TEST(SceneErrors, ListLengthMustMatchTheDimension) {
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]")),
+            "scene.toml:15:8: size has 3 components, but the scene is 2D: give one per axis (x, y)");
+  EXPECT_EQ(error_of(edit("type = \"fixed\"", "type = \"fixed\"\naxes = [\"x\", \"z\"]")),
+            "scene.toml:28:14: axes: 'z' is not an axis of a 2D scene (allowed: x, y)");
+  EXPECT_EQ(error_of(edit("dimension = 2", "dimension = 3")),
+            "scene.toml:15:8: size has 2 components, but the scene is 3D: give one per axis (x, y, z)");
+  EXPECT_EQ(error_of(kBase, {"probe.axis=z"}),
+            "--set probe.axis=z: axis = \"z\" is not an axis of a 2D scene (allowed: x, y)");
+  EXPECT_EQ(error_of(kBase + "[[load]]\ngroup = \"top\"\ntimes = []\nforces = []\n"),
+            "scene.toml:34:9: times must have at least 1 entry, got 0");
+  EXPECT_EQ(error_of(kBase + "[[load]]\ngroup = \"top\"\ntimes = [0, 1]\nforces = [[0, 1], [0, 1, 2]]\n"),
+            "scene.toml:35:19: forces[1] has 3 components, but the scene is 2D: give one per axis (x, y)");
+}
+
+TEST(SceneErrors, CrossReferences) {
+  EXPECT_EQ(error_of(edit("material = \"rock\"", "material = \"rok\"")),
+            "scene.toml:13:12: material = \"rok\" names no [[material]]; did you mean 'rock'? (defined: rock)");
+  EXPECT_EQ(error_of(edit("group = \"bottom\"", "group = \"botom\"")),
+            "scene.toml:26:9: group = \"botom\" names no [[group]] or [[region]]; did you mean 'bottom'? (defined: "
+            "top, bottom, specimen)");
+  EXPECT_NO_THROW(strata::scene::parse(edit("group = \"bottom\"", "group = \"specimen\""), "scene.toml"));
+  EXPECT_EQ(error_of(edit("name = \"top\"", "name = \"specimen\"")),
+            "scene.toml:18:8: [[group]] name 'specimen' is already a [[region]] name (every region is also a group "
+            "of its own name)");
+  EXPECT_EQ(error_of(edit("select = \"top_row\"", "select = \"top_row\"\nregion = \"sample\"")),
+            "scene.toml:20:10: region = \"sample\" names no [[region]] (defined: specimen)");
+  EXPECT_EQ(error_of(edit("name = \"bottom\"", "name = \"top\"")),
+            "scene.toml:22:8: [[group]] name 'top' is used twice (first at scene.toml:18:8)");
+  EXPECT_EQ(error_of(kBase + "\n[probe]\nstress_strain = true\ntop_group = \"upper\"\n"),
+            "scene.toml:35:13: top_group = \"upper\" names no [[group]] or [[region]], which stress_strain = true "
+            "needs (defined: top, bottom, specimen)");
+}
+
+TEST(SceneErrors, ShapeAndTypeDependentKeys) {
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]\n", "")),
+            "scene.toml:11:1: [[region]] 'specimen' needs 'size' for shape = \"box\" (extent of a box along each "
+            "axis)");
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "shape = \"disk\"\ncenter = [0, 0]")),
+            "scene.toml:15:9: [[region]] 'specimen' needs 'radius' for shape = \"disk\" (radius of a disk or "
+            "sphere)");
+  EXPECT_EQ(error_of(edit("diameter = 0.001\n", "")),
+            "scene.toml:11:1: [[region]] 'specimen' needs 'diameter' for kind = \"particles\" (particle diameter "
+            "d)");
+  EXPECT_EQ(error_of(edit("type = \"fixed\"", "type = \"velocity\"")),
+            "scene.toml:27:8: [[boundary]] at index 0 needs 'velocity' for type = \"velocity\" (velocity, one "
+            "component per axis)");
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, 0.03]\nlattice = \"hcp\"")),
+            "scene.toml:16:11: lattice = \"hcp\" is for 3D scenes; in 2D use hex (or auto)");
+  EXPECT_EQ(error_of(kBase + "[[wall]]\nname = \"w\"\npoint = [0, 0]\nnormal = [0, 0]\n"),
+            "scene.toml:35:10: normal must not be zero: give the direction pointing into the particles");
+  EXPECT_EQ(error_of(edit("steps = 1000\n", "")),
+            "scene.toml:29:1: the run has no length: set solver.steps or solver.duration (both are 0)");
+  EXPECT_EQ(error_of(kBase + "[[load]]\ngroup = \"top\"\ntimes = [0, 2e-5, 1e-5]\nforces = [[0, 1], [0, 2], [0, 3]]\n"),
+            "scene.toml:34:9: times must increase: times[2] = 1e-05 is not after times[1] = 2e-05");
+}
+
+// ---- overrides -------------------------------------------------------------------------------
+
+TEST(SceneOverrides, AppliedBeforeValidationAndRemembered) {
+  const Scene s = strata::scene::parse(kBase, "scene.toml", {"solver.dt=1e-9", "output.render_field=velocity"});
+  EXPECT_EQ(s.table("solver").real("dt"), 1e-9);
+  EXPECT_TRUE(s.table("solver").given("dt"));
+  EXPECT_EQ(s.table("solver").where("dt").str(), "--set solver.dt=1e-9");
+  EXPECT_EQ(s.table("solver").integer("steps"), 1000);  // the rest of the file is untouched
+  EXPECT_EQ(s.table("output").str("render_field"), "velocity");  // a bare word is read as a string
+}
+
+TEST(SceneOverrides, ErrorsPointAtTheOverride) {
+  EXPECT_EQ(error_of(kBase, {"solver.dt=-1"}), "--set solver.dt=-1: dt = -1 must be >= 0 (s)");
+  EXPECT_EQ(error_of(kBase, {"solver.dtt=1"}),
+            "--set solver.dtt=1: unknown key 'dtt' in [solver]; did you mean 'dt'? (allowed: " + kSolverKeys + ")");
+  EXPECT_EQ(error_of(kBase, {"solvr.dt=1"}),
+            "--set solvr.dt=1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
+            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+  EXPECT_EQ(error_of(kBase, {"output.render_field=dmage"}),
+            "--set output.render_field=dmage: render_field = \"dmage\" must be one of displacement, velocity, "
+            "damage, group; did you mean 'damage'?");
+  EXPECT_EQ(error_of(kBase, {"solver.dt"}), "--set solver.dt: expected key=value, e.g. solver.dt=1e-8 or "
+                                            "material.rock.kn=1e9");
+  // Overrides are checked before the file: their problems come first.
+  EXPECT_EQ(error_of(edit("kn = 6.5e10", "kn = -5"), {"solver.steps=0.5"}),
+            "--set solver.steps=0.5: steps must be an integer, got a real number 0.5");
+}
+
+TEST(SceneOverrides, CreateKeysAndTables) {
+  // A key the file did not write, inside a written table.
+  Scene s = strata::scene::parse(kBase, "scene.toml", {"solver.damping=local"});
+  EXPECT_EQ(s.table("solver").str("damping"), "local");
+  EXPECT_EQ(s.table("solver").where("damping").str(), "--set solver.damping=local");
+  // A whole table the file did not write.
+  s = strata::scene::parse(kBase, "scene.toml", {"output.frames=5", "probe.stress_strain=true"});
+  EXPECT_EQ(s.table("output").integer("frames"), 5);
+  EXPECT_TRUE(s.table("probe").boolean("stress_strain"));
+  EXPECT_EQ(s.table("probe").where().str(), "--set probe.stress_strain=true");
+  // A created table is checked like the file: here the default top_group does not exist.
+  EXPECT_EQ(error_of(edit("name = \"top\"", "name = \"upper\""), {"probe.stress_strain=true"}),
+            "--set probe.stress_strain=true: top_group = \"top\" names no [[group]] or [[region]], which "
+            "stress_strain = true needs (defined: upper, bottom, specimen)");
+}
+
+TEST(SceneOverrides, ArrayEntriesByNameAndByIndex) {
+  const Scene s = strata::scene::parse(kBase, "scene.toml",
+                                       {"material.rock.kn=1e9", "region[0].diameter=0.002", "scene.title=\"x y\"",
+                                        "boundary[0].axes=[\"y\"]"});
+  EXPECT_EQ(s.tables("material")[0].real("kn"), 1e9);
+  EXPECT_EQ(s.tables("material")[0].where("kn").str(), "--set material.rock.kn=1e9");
+  EXPECT_EQ(s.tables("region")[0].real("diameter"), 0.002);
+  EXPECT_EQ(s.table("scene").str("title"), "x y");
+  EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"y"}));
+
+  EXPECT_EQ(error_of(kBase, {"material.granit.kn=1"}), "--set material.granit.kn=1: no [[material]] named "
+                                                       "'granit' (names: rock)");
+  EXPECT_EQ(error_of(kBase, {"material.rok.kn=1"}),
+            "--set material.rok.kn=1: no [[material]] named 'rok'; did you mean 'rock'? (names: rock)");
+  EXPECT_EQ(error_of(kBase, {"region[1].diameter=1"}),
+            "--set region[1].diameter=1: index 1 is out of range: the scene has 1 [[region]] entry (index 0 to 0)");
+  EXPECT_EQ(error_of(kBase, {"material.kn=1"}),
+            "--set material.kn=1: address one [[material]] entry: write material.<name>.<key> or "
+            "material[<index>].<key>");
+  EXPECT_EQ(error_of(kBase, {"boundary.bottom.type=velocity"}),
+            "--set boundary.bottom.type=velocity: address one [[boundary]] entry: write boundary[<index>].<key>");
+  EXPECT_EQ(error_of(kBase, {"material[0].kn=-1"}), "--set material[0].kn=-1: kn = -1 must be > 0 (N/m)");
+  EXPECT_EQ(error_of(kBase, {"material.rock.kn_typo=1"}),
+            "--set material.rock.kn_typo=1: unknown key 'kn_typo' in [[material]]; did you mean 'kn'? (allowed: " +
+                kMaterialKeys + ")");
+}
+
+// ---- the schema and its reference ------------------------------------------------------------
+
+TEST(SceneSchema, EveryKeyIsDocumentedAndEveryDefaultIsValid) {
+  for (const auto& t : strata::scene::schema()) {
+    EXPECT_FALSE(t.doc.empty()) << t.name;
+    for (const auto& k : t.keys) {
+      EXPECT_FALSE(k.doc.empty()) << t.name << "." << k.name;
+      EXPECT_FALSE(k.required && !k.default_value.empty()) << t.name << "." << k.name;
+    }
+  }
+  // Every default converts and passes its own checks: kBase (which leaves most keys out) parses in 2D and 3D.
+  std::string text3 = edit("dimension = 2", "dimension = 3");
+  text3 = edit("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]", text3);
+  EXPECT_NO_THROW(strata::scene::parse(text3, "scene.toml"));
+}
+
+TEST(SceneSchema, ReferenceDocIsInSyncWithTheSchema) {
+  // On a mismatch the fresh page is also written to the build folder, so it can be copied over.
+  const fs::path doc = fs::path(STRATA_SOURCE_DIR) / "docs" / "scene-reference.md";
+  const fs::path fresh = fs::path(STRATA_BINARY_DIR) / "scene-reference.md";
+  const std::string how = "Regenerate it from the source folder with\n  strata reference -o docs/scene-reference.md\n"
+                          "or copy " + fresh.string() + " (written by this test) to docs/scene-reference.md";
+  std::stringstream committed;
+  if (std::ifstream in(doc); in) committed << in.rdbuf();
+  const std::string generated = strata::scene::reference_markdown();
+  if (committed.str() != generated) std::ofstream(fresh) << generated;
+  EXPECT_TRUE(committed.str() == generated)
+      << doc.string() << " is missing or differs from the schema (apps/src/scene/schema.cpp). " << how;
+}
