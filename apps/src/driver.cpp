@@ -153,9 +153,8 @@ class RunOutput {
   void frame(const BuiltModel& m) {
     if (!out_.boolean("vtk")) return;
     const io::PointCloud pc = particle_frame(m.sim, fields_);
-    last_frame_ = particles_.add_particles(m.sim.time(), pc);
+    particles_.add_particles(m.sim.time(), pc);
     bonds_.add_lines(m.sim.time(), pc, broken_bond_frame(m.sim));
-    last_frame_step_ = m.sim.step_count();
   }
 
   /// Writes what is known at the end of a run (or at a failure): breaks, summary, plots.
@@ -243,9 +242,16 @@ class RunOutput {
 #endif
   }
 
+  /// Drops frames later than `time` from the series (they may hold a blow-up in progress);
+  /// returns the last frame kept, or an empty path.
+  fs::path keep_frames_until(double time) {
+    if (particles_.frames().empty()) return {};
+    particles_.truncate_after(time);
+    bonds_.truncate_after(time);
+    return particles_.frames().empty() ? fs::path() : dir_ / particles_.frames().back().file;
+  }
+
   const std::vector<fs::path>& written() const { return written_; }
-  const fs::path& last_frame() const { return last_frame_; }
-  std::int64_t last_frame_step() const { return last_frame_step_; }
 
  private:
   fs::path dir_;
@@ -256,8 +262,6 @@ class RunOutput {
   std::vector<double> time_, kinetic_, bond_, work_, strain_, stress_;
   std::vector<std::int64_t> probe_steps_;
   std::vector<fs::path> written_;
-  fs::path last_frame_;
-  std::int64_t last_frame_step_ = -1;
 };
 
 }  // namespace
@@ -340,11 +344,14 @@ int run_scene(const SceneOptions& opt) {
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Numerical) throw;
     progress.finish(m.sim.step_count());
+    // Frames after the last passed health check may already hold the blow-up: drop them.
+    const std::int64_t good = m.sim.last_good_step();
+    const fs::path last = out.keep_frames_until((double(good) + 0.5) * m.dt);
     out.finish(m, model, seconds_since(t0), fmt::format("failed: {}", e.what()));
-    const std::string kept =
-        out.last_frame().empty()
-            ? std::string("no frame had been written")
-            : fmt::format("last good frame kept: {} (step {})", out.last_frame().string(), out.last_frame_step());
+    const std::string kept = last.empty() ? std::string("no good frame had been written")
+                                          : fmt::format("last good frame kept: {} (the state at step {} passed "
+                                                        "the health check)",
+                                                        last.string(), good);
     fail(ErrorKind::Numerical, "{}\nrun stopped; {}; probes up to the failure in {}", e.what(), kept,
          (dir / "probes.csv").string());
   }

@@ -903,7 +903,7 @@ class Model final : public ModelBase {
   void step_once(const Ctx& c) {
     const int nt = plan.nt;
     par::parallel_team(nt, [&](int t, int team) {
-      if (team != nt) {  // fewer threads than planned: run the plan serially on thread 0
+      if (team != nt || getenv("DBG_SERIAL")) {  // fewer threads than planned: run the plan serially on thread 0
         if (t == 0) {
           for (int s = 0; s < nt; ++s) phase_a<kEnergy>(s, c);
           for (int s = 0; s < nt; ++s) phase_b<DK, kEnergy>(s, c);

@@ -222,7 +222,7 @@ stress_strain = true
   EXPECT_EQ(specimen.real("orientation"), 0.0);
   const auto& far = s.tables("region")[1];
   EXPECT_EQ(far.path("file"), dir.path() / "geom" / "specimen.geo");  // relative to the scene file
-  EXPECT_FALSE(far.has("diameter"));  // not needed by kind = "fem"
+  EXPECT_FALSE(far.has("diameter"));                                  // not needed by kind = "fem"
   EXPECT_EQ(far.real("mesh_size"), 0.0);
 
   const auto& top = s.tables("group")[0];
@@ -273,8 +273,8 @@ TEST(SceneLoad, AbsentPlainTablesHoldTheirDefaults) {
   const auto& output = s.table("output");
   EXPECT_FALSE(output.given("directory"));
   EXPECT_EQ(output.path("directory"), (fs::current_path() / "out").lexically_normal());
-  EXPECT_EQ(output.strings("fields"),
-            (std::vector<std::string>{"id", "radius", "displacement", "velocity", "force", "group", "damage"}));
+  EXPECT_EQ(output.strings("fields"), (std::vector<std::string>{"id", "radius", "displacement", "velocity",
+                                                                "force", "group", "damage"}));
   EXPECT_EQ(output.where().str(), "scene.toml:1:1");
   EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"x", "y"}));
   EXPECT_FALSE(s.table("probe").boolean("stress_strain"));
@@ -317,8 +317,8 @@ TEST(SceneErrors, FourAcceptanceErrorsHaveExactPositionsAndDifferentMessages) {
   const std::string wrong_type = error_of(edit("dt = 2e-8", "dt = \"fast\""));
   EXPECT_EQ(wrong_type, "scene.toml:30:6: dt must be a real number (s), got a string \"fast\"");
 
-  const std::string missing_file = error_of(
-      edit("size = [0.03, 0.03]", "shape = \"file\"\nfile = \"geom/specimen.geo\""), {}, file);
+  const std::string missing_file =
+      error_of(edit("size = [0.03, 0.03]", "shape = \"file\"\nfile = \"geom/specimen.geo\""), {}, file);
   EXPECT_EQ(missing_file, file.string() + ":16:8: file 'geom/specimen.geo' not found (looked for " +
                               (dir.path() / "geom" / "specimen.geo").string() +
                               "; paths are relative to the scene file)");
@@ -333,9 +333,10 @@ TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
   EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
             "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
             "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
-  EXPECT_EQ(error_of(edit("[[group]]", "[[groups]]")),
-            "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
-            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+  EXPECT_EQ(
+      error_of(edit("[[group]]", "[[groups]]")),
+      "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
 }
 
 TEST(SceneErrors, TableWrittenWithTheWrongBrackets) {
@@ -346,43 +347,49 @@ TEST(SceneErrors, TableWrittenWithTheWrongBrackets) {
 }
 
 TEST(SceneErrors, KeyOutsideAnyTable) {
-  EXPECT_EQ(error_of("seed = 3\n" + kBase), "scene.toml:1:1: key 'seed' is outside any table; it belongs in [scene]");
+  EXPECT_EQ(error_of("seed = 3\n" + kBase),
+            "scene.toml:1:1: key 'seed' is outside any table; it belongs in [scene]");
 }
 
 TEST(SceneErrors, UnknownKeyWithoutACloseMatchListsTheAllowedKeys) {
   EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ncolour = 1")),
             "scene.toml:32:1: unknown key 'colour' in [solver] (allowed: " + kSolverKeys + ")");
   EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\nseed = 1")),
-            "scene.toml:32:1: unknown key 'seed' in [solver]; 'seed' is a key of [scene] (allowed: " + kSolverKeys +
-                ")");
+            "scene.toml:32:1: unknown key 'seed' in [solver]; 'seed' is a key of [scene] (allowed: " +
+                kSolverKeys + ")");
 }
 
 TEST(SceneErrors, BadChoiceSuggestsTheClosest) {
-  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndamping = \"visous\"")),
-            "scene.toml:32:11: damping = \"visous\" must be one of none, viscous, local; did you mean 'viscous'?");
+  EXPECT_EQ(
+      error_of(edit("steps = 1000", "steps = 1000\ndamping = \"visous\"")),
+      "scene.toml:32:11: damping = \"visous\" must be one of none, viscous, local; did you mean 'viscous'?");
   EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndamping = \"heavy\"")),
             "scene.toml:32:11: damping = \"heavy\" must be one of none, viscous, local");
 }
 
 TEST(SceneErrors, MissingRequiredKeyPointsAtTheTableHeader) {
-  EXPECT_EQ(error_of(edit("material = \"rock\"\n", "")),
-            "scene.toml:11:1: [[region]] 'specimen' is missing required key 'material' (the [[material]] that "
-            "fills the region, by name)");
-  EXPECT_EQ(error_of(edit("type = \"fixed\"\n", "")),
-            "scene.toml:25:1: [[boundary]] at index 0 is missing required key 'type' (fixed: held in place; "
-            "velocity: moved at `velocity`; step_displacement: moved by `increment` every `every` steps (SPEC C1 "
-            "moves its platens 1.9e-9 m every 400 steps))");
-  EXPECT_EQ(error_of(edit("dimension = 2\n", "")),
-            "scene.toml:1:1: [scene] is missing required key 'dimension' (2 for a plane model of disks (hexagonal "
-            "lattice), 3 for a model of spheres (close-packed lattice))");
+  EXPECT_EQ(
+      error_of(edit("material = \"rock\"\n", "")),
+      "scene.toml:11:1: [[region]] 'specimen' is missing required key 'material' (the [[material]] that "
+      "fills the region, by name)");
+  EXPECT_EQ(
+      error_of(edit("type = \"fixed\"\n", "")),
+      "scene.toml:25:1: [[boundary]] at index 0 is missing required key 'type' (fixed: held in place; "
+      "velocity: moved at `velocity`; step_displacement: moved by `increment` every `every` steps (SPEC C1 "
+      "moves its platens 1.9e-9 m every 400 steps))");
+  EXPECT_EQ(
+      error_of(edit("dimension = 2\n", "")),
+      "scene.toml:1:1: [scene] is missing required key 'dimension' (2 for a plane model of disks (hexagonal "
+      "lattice), 3 for a model of spheres (close-packed lattice))");
 }
 
 TEST(SceneErrors, MissingRequiredTable) {
   EXPECT_EQ(error_of(kBase.substr(0, kBase.find("[[material]]")) + kBase.substr(kBase.find("[[region]]"))),
             "scene.toml:1:1: missing required table [[material]] (a bonded-particle material: density, bond "
             "stiffnesses and bond strengths of the solid-lattice law (SPEC C1))");
-  EXPECT_EQ(error_of(""), "scene.toml:1:1: missing required table [scene] (what the model is: a title, 2D or 3D, "
-                          "and the random seed)");
+  EXPECT_EQ(error_of(""),
+            "scene.toml:1:1: missing required table [scene] (what the model is: a title, 2D or 3D, "
+            "and the random seed)");
   // A missing table has no position of its own: a problem at a real position is reported first.
   EXPECT_EQ(error_of("[scene]\ndimension = \"two\"\n"),
             "scene.toml:2:13: dimension must be an integer, got a string \"two\"");
@@ -398,12 +405,14 @@ TEST(SceneErrors, IntegersAndInfinity) {
   EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1.5")),
             "scene.toml:31:9: steps must be an integer, got a real number 1.5");
   EXPECT_EQ(error_of(edit("steps = 1000", "steps = -1")), "scene.toml:31:9: steps = -1 must be >= 0");
-  EXPECT_EQ(error_of(edit("dimension = 2", "dimension = 4")), "scene.toml:3:13: dimension = 4 must be 2 or 3");
+  EXPECT_EQ(error_of(edit("dimension = 2", "dimension = 4")),
+            "scene.toml:3:13: dimension = 4 must be 2 or 3");
   EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndt_safety = 1.5")),
             "scene.toml:32:13: dt_safety = 1.5 must be > 0 and <= 1");
   EXPECT_EQ(error_of(edit("ks = 2.4e10", "ks = inf")), "scene.toml:9:6: ks = inf must be finite (N/m)");
   EXPECT_EQ(error_of(edit("ks = 2.4e10", "ks = nan")), "scene.toml:9:6: ks = nan must be a number (N/m)");
-  const Scene s = strata::scene::parse(edit("ks = 2.4e10", "ks = 2.4e10\nshear_strength = inf"), "scene.toml");
+  const Scene s =
+      strata::scene::parse(edit("ks = 2.4e10", "ks = 2.4e10\nshear_strength = inf"), "scene.toml");
   EXPECT_TRUE(std::isinf(s.tables("material")[0].real("shear_strength")));
   EXPECT_TRUE(s.tables("material")[0].given("shear_strength"));
 }
@@ -433,70 +442,84 @@ TEST(SceneErrors, ListLengthMustMatchTheDimension) {
 }
 
 TEST(SceneErrors, CrossReferences) {
-  EXPECT_EQ(error_of(edit("material = \"rock\"", "material = \"rok\"")),
-            "scene.toml:13:12: material = \"rok\" names no [[material]]; did you mean 'rock'? (defined: rock)");
-  EXPECT_EQ(error_of(edit("group = \"bottom\"", "group = \"botom\"")),
-            "scene.toml:26:9: group = \"botom\" names no [[group]] or [[region]]; did you mean 'bottom'? (defined: "
-            "top, bottom, specimen)");
+  EXPECT_EQ(
+      error_of(edit("material = \"rock\"", "material = \"rok\"")),
+      "scene.toml:13:12: material = \"rok\" names no [[material]]; did you mean 'rock'? (defined: rock)");
+  EXPECT_EQ(
+      error_of(edit("group = \"bottom\"", "group = \"botom\"")),
+      "scene.toml:26:9: group = \"botom\" names no [[group]] or [[region]]; did you mean 'bottom'? (defined: "
+      "top, bottom, specimen)");
   EXPECT_NO_THROW(strata::scene::parse(edit("group = \"bottom\"", "group = \"specimen\""), "scene.toml"));
-  EXPECT_EQ(error_of(edit("name = \"top\"", "name = \"specimen\"")),
-            "scene.toml:18:8: [[group]] name 'specimen' is already a [[region]] name (every region is also a group "
-            "of its own name)");
+  EXPECT_EQ(
+      error_of(edit("name = \"top\"", "name = \"specimen\"")),
+      "scene.toml:18:8: [[group]] name 'specimen' is already a [[region]] name (every region is also a group "
+      "of its own name)");
   EXPECT_EQ(error_of(edit("select = \"top_row\"", "select = \"top_row\"\nregion = \"sample\"")),
             "scene.toml:20:10: region = \"sample\" names no [[region]] (defined: specimen)");
   EXPECT_EQ(error_of(edit("name = \"bottom\"", "name = \"top\"")),
             "scene.toml:22:8: [[group]] name 'top' is used twice (first at scene.toml:18:8)");
-  EXPECT_EQ(error_of(kBase + "\n[probe]\nstress_strain = true\ntop_group = \"upper\"\n"),
-            "scene.toml:35:13: top_group = \"upper\" names no [[group]] or [[region]], which stress_strain = true "
-            "needs (defined: top, bottom, specimen)");
+  EXPECT_EQ(
+      error_of(kBase + "\n[probe]\nstress_strain = true\ntop_group = \"upper\"\n"),
+      "scene.toml:35:13: top_group = \"upper\" names no [[group]] or [[region]], which stress_strain = true "
+      "needs (defined: top, bottom, specimen)");
 }
 
 TEST(SceneErrors, ShapeAndTypeDependentKeys) {
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]\n", "")),
-            "scene.toml:11:1: [[region]] 'specimen' needs 'size' for shape = \"box\" (extent of a box along each "
-            "axis)");
+  EXPECT_EQ(
+      error_of(edit("size = [0.03, 0.03]\n", "")),
+      "scene.toml:11:1: [[region]] 'specimen' needs 'size' for shape = \"box\" (extent of a box along each "
+      "axis)");
   EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "shape = \"disk\"\ncenter = [0, 0]")),
             "scene.toml:15:9: [[region]] 'specimen' needs 'radius' for shape = \"disk\" (radius of a disk or "
             "sphere)");
-  EXPECT_EQ(error_of(edit("diameter = 0.001\n", "")),
-            "scene.toml:11:1: [[region]] 'specimen' needs 'diameter' for kind = \"particles\" (particle diameter "
-            "d)");
-  EXPECT_EQ(error_of(edit("type = \"fixed\"", "type = \"velocity\"")),
-            "scene.toml:27:8: [[boundary]] at index 0 needs 'velocity' for type = \"velocity\" (velocity, one "
-            "component per axis)");
+  EXPECT_EQ(
+      error_of(edit("diameter = 0.001\n", "")),
+      "scene.toml:11:1: [[region]] 'specimen' needs 'diameter' for kind = \"particles\" (particle diameter "
+      "d)");
+  EXPECT_EQ(
+      error_of(edit("type = \"fixed\"", "type = \"velocity\"")),
+      "scene.toml:27:8: [[boundary]] at index 0 needs 'velocity' for type = \"velocity\" (velocity, one "
+      "component per axis)");
   EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, 0.03]\nlattice = \"hcp\"")),
             "scene.toml:16:11: lattice = \"hcp\" is for 3D scenes; in 2D use hex (or auto)");
   EXPECT_EQ(error_of(kBase + "[[wall]]\nname = \"w\"\npoint = [0, 0]\nnormal = [0, 0]\n"),
             "scene.toml:35:10: normal must not be zero: give the direction pointing into the particles");
   EXPECT_EQ(error_of(edit("steps = 1000\n", "")),
             "scene.toml:29:1: the run has no length: set solver.steps or solver.duration (both are 0)");
-  EXPECT_EQ(error_of(kBase + "[[load]]\ngroup = \"top\"\ntimes = [0, 2e-5, 1e-5]\nforces = [[0, 1], [0, 2], [0, 3]]\n"),
-            "scene.toml:34:9: times must increase: times[2] = 1e-05 is not after times[1] = 2e-05");
+  EXPECT_EQ(
+      error_of(kBase +
+               "[[load]]\ngroup = \"top\"\ntimes = [0, 2e-5, 1e-5]\nforces = [[0, 1], [0, 2], [0, 3]]\n"),
+      "scene.toml:34:9: times must increase: times[2] = 1e-05 is not after times[1] = 2e-05");
 }
 
 // ---- overrides -------------------------------------------------------------------------------
 
 TEST(SceneOverrides, AppliedBeforeValidationAndRemembered) {
-  const Scene s = strata::scene::parse(kBase, "scene.toml", {"solver.dt=1e-9", "output.render_field=velocity"});
+  const Scene s =
+      strata::scene::parse(kBase, "scene.toml", {"solver.dt=1e-9", "output.render_field=velocity"});
   EXPECT_EQ(s.table("solver").real("dt"), 1e-9);
   EXPECT_TRUE(s.table("solver").given("dt"));
   EXPECT_EQ(s.table("solver").where("dt").str(), "--set solver.dt=1e-9");
-  EXPECT_EQ(s.table("solver").integer("steps"), 1000);  // the rest of the file is untouched
+  EXPECT_EQ(s.table("solver").integer("steps"), 1000);           // the rest of the file is untouched
   EXPECT_EQ(s.table("output").str("render_field"), "velocity");  // a bare word is read as a string
 }
 
 TEST(SceneOverrides, ErrorsPointAtTheOverride) {
   EXPECT_EQ(error_of(kBase, {"solver.dt=-1"}), "--set solver.dt=-1: dt = -1 must be >= 0 (s)");
-  EXPECT_EQ(error_of(kBase, {"solver.dtt=1"}),
-            "--set solver.dtt=1: unknown key 'dtt' in [solver]; did you mean 'dt'? (allowed: " + kSolverKeys + ")");
-  EXPECT_EQ(error_of(kBase, {"solvr.dt=1"}),
-            "--set solvr.dt=1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
-            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
-  EXPECT_EQ(error_of(kBase, {"output.render_field=dmage"}),
-            "--set output.render_field=dmage: render_field = \"dmage\" must be one of displacement, velocity, "
-            "damage, group; did you mean 'damage'?");
-  EXPECT_EQ(error_of(kBase, {"solver.dt"}), "--set solver.dt: expected key=value, e.g. solver.dt=1e-8 or "
-                                            "material.rock.kn=1e9");
+  EXPECT_EQ(
+      error_of(kBase, {"solver.dtt=1"}),
+      "--set solver.dtt=1: unknown key 'dtt' in [solver]; did you mean 'dt'? (allowed: " + kSolverKeys + ")");
+  EXPECT_EQ(
+      error_of(kBase, {"solvr.dt=1"}),
+      "--set solvr.dt=1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+  EXPECT_EQ(
+      error_of(kBase, {"output.render_field=dmage"}),
+      "--set output.render_field=dmage: render_field = \"dmage\" must be one of displacement, velocity, "
+      "damage, group; did you mean 'damage'?");
+  EXPECT_EQ(error_of(kBase, {"solver.dt"}),
+            "--set solver.dt: expected key=value, e.g. solver.dt=1e-8 or "
+            "material.rock.kn=1e9");
   // Overrides are checked before the file: their problems come first.
   EXPECT_EQ(error_of(edit("kn = 6.5e10", "kn = -5"), {"solver.steps=0.5"}),
             "--set solver.steps=0.5: steps must be an integer, got a real number 0.5");
@@ -520,29 +543,33 @@ TEST(SceneOverrides, CreateKeysAndTables) {
 
 TEST(SceneOverrides, ArrayEntriesByNameAndByIndex) {
   const Scene s = strata::scene::parse(kBase, "scene.toml",
-                                       {"material.rock.kn=1e9", "region[0].diameter=0.002", "scene.title=\"x y\"",
-                                        "boundary[0].axes=[\"y\"]"});
+                                       {"material.rock.kn=1e9", "region[0].diameter=0.002",
+                                        "scene.title=\"x y\"", "boundary[0].axes=[\"y\"]"});
   EXPECT_EQ(s.tables("material")[0].real("kn"), 1e9);
   EXPECT_EQ(s.tables("material")[0].where("kn").str(), "--set material.rock.kn=1e9");
   EXPECT_EQ(s.tables("region")[0].real("diameter"), 0.002);
   EXPECT_EQ(s.table("scene").str("title"), "x y");
   EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"y"}));
 
-  EXPECT_EQ(error_of(kBase, {"material.granit.kn=1"}), "--set material.granit.kn=1: no [[material]] named "
-                                                       "'granit' (names: rock)");
+  EXPECT_EQ(error_of(kBase, {"material.granit.kn=1"}),
+            "--set material.granit.kn=1: no [[material]] named "
+            "'granit' (names: rock)");
   EXPECT_EQ(error_of(kBase, {"material.rok.kn=1"}),
             "--set material.rok.kn=1: no [[material]] named 'rok'; did you mean 'rock'? (names: rock)");
-  EXPECT_EQ(error_of(kBase, {"region[1].diameter=1"}),
-            "--set region[1].diameter=1: index 1 is out of range: the scene has 1 [[region]] entry (index 0 to 0)");
+  EXPECT_EQ(
+      error_of(kBase, {"region[1].diameter=1"}),
+      "--set region[1].diameter=1: index 1 is out of range: the scene has 1 [[region]] entry (index 0 to 0)");
   EXPECT_EQ(error_of(kBase, {"material.kn=1"}),
             "--set material.kn=1: address one [[material]] entry: write material.<name>.<key> or "
             "material[<index>].<key>");
-  EXPECT_EQ(error_of(kBase, {"boundary.bottom.type=velocity"}),
-            "--set boundary.bottom.type=velocity: address one [[boundary]] entry: write boundary[<index>].<key>");
+  EXPECT_EQ(
+      error_of(kBase, {"boundary.bottom.type=velocity"}),
+      "--set boundary.bottom.type=velocity: address one [[boundary]] entry: write boundary[<index>].<key>");
   EXPECT_EQ(error_of(kBase, {"material[0].kn=-1"}), "--set material[0].kn=-1: kn = -1 must be > 0 (N/m)");
-  EXPECT_EQ(error_of(kBase, {"material.rock.kn_typo=1"}),
-            "--set material.rock.kn_typo=1: unknown key 'kn_typo' in [[material]]; did you mean 'kn'? (allowed: " +
-                kMaterialKeys + ")");
+  EXPECT_EQ(
+      error_of(kBase, {"material.rock.kn_typo=1"}),
+      "--set material.rock.kn_typo=1: unknown key 'kn_typo' in [[material]]; did you mean 'kn'? (allowed: " +
+          kMaterialKeys + ")");
 }
 
 // ---- the schema and its reference ------------------------------------------------------------
@@ -565,8 +592,10 @@ TEST(SceneSchema, ReferenceDocIsInSyncWithTheSchema) {
   // On a mismatch the fresh page is also written to the build folder, so it can be copied over.
   const fs::path doc = fs::path(STRATA_SOURCE_DIR) / "docs" / "scene-reference.md";
   const fs::path fresh = fs::path(STRATA_BINARY_DIR) / "scene-reference.md";
-  const std::string how = "Regenerate it from the source folder with\n  strata reference -o docs/scene-reference.md\n"
-                          "or copy " + fresh.string() + " (written by this test) to docs/scene-reference.md";
+  const std::string how =
+      "Regenerate it from the source folder with\n  strata reference -o docs/scene-reference.md\n"
+      "or copy " +
+      fresh.string() + " (written by this test) to docs/scene-reference.md";
   std::stringstream committed;
   if (std::ifstream in(doc); in) committed << in.rdbuf();
   const std::string generated = strata::scene::reference_markdown();

@@ -58,8 +58,8 @@ const Value& Table::get(const std::string& key) const {
 
 namespace {
 [[noreturn]] void wrong_access(const std::string& label, const std::string& key, const char* as) {
-  throw Error(ErrorKind::Internal, fmt::format("scene: {}.{} read as {}, which is not its declared type",
-                                               label, key, as));
+  throw Error(ErrorKind::Internal,
+              fmt::format("scene: {}.{} read as {}, which is not its declared type", label, key, as));
 }
 }  // namespace
 
@@ -116,7 +116,8 @@ const Table& Scene::table(const std::string& name) const {
   const bool plain = std::any_of(schema().begin(), schema().end(),
                                  [&](const TableSpec& t) { return t.name == name && !t.array; });
   if (!plain || it == entries.end() || it->second.size() != 1)
-    throw Error(ErrorKind::Internal, fmt::format("scene: no single table [{}] (not declared, or an array)", name));
+    throw Error(ErrorKind::Internal,
+                fmt::format("scene: no single table [{}] (not declared, or an array)", name));
   return it->second.front();
 }
 
@@ -161,8 +162,8 @@ bool underscore_prefix(std::string_view word, std::string_view cand) {
   const std::string w = lower(word), c = lower(cand);
   const auto& shorter = w.size() < c.size() ? w : c;
   const auto& longer = w.size() < c.size() ? c : w;
-  return shorter.size() >= 2 && longer.size() > shorter.size() && longer.compare(0, shorter.size(), shorter) == 0 &&
-         longer[shorter.size()] == '_';
+  return shorter.size() >= 2 && longer.size() > shorter.size() &&
+         longer.compare(0, shorter.size(), shorter) == 0 && longer[shorter.size()] == '_';
 }
 
 /// The candidate closest to `word`, when close enough to be a likely misspelling.
@@ -178,7 +179,8 @@ std::optional<std::string> closest(std::string_view word, const std::vector<std:
   for (const auto& c : candidates)
     if (underscore_prefix(word, c)) return c;
   for (const auto& c : candidates)  // an abbreviation: "loc" for "local"
-    if (word.size() >= 3 && c.size() > word.size() && lower(c).compare(0, word.size(), lower(word)) == 0) return c;
+    if (word.size() >= 3 && c.size() > word.size() && lower(c).compare(0, word.size(), lower(word)) == 0)
+      return c;
   return std::nullopt;
 }
 
@@ -389,8 +391,9 @@ class Loader {
     auto order = [](const Problem& p) {
       return std::tuple(p.last, p.set_index < 0, p.set_index, p.pos.line, p.pos.column);
     };
-    const auto first = std::min_element(problems_.begin(), problems_.end(),
-                                        [&](const Problem& a, const Problem& b) { return order(a) < order(b); });
+    const auto first =
+        std::min_element(problems_.begin(), problems_.end(),
+                         [&](const Problem& a, const Problem& b) { return order(a) < order(b); });
     throw Error(ErrorKind::Input, first->pos.str() + ": " + first->message);
   }
 
@@ -425,16 +428,26 @@ class Loader {
     std::string r = raw(n);
     if (r.size() > 40) r = r.substr(0, 37) + "...";
     switch (n.type()) {
-      case toml::node_type::string: return "a string " + r;
-      case toml::node_type::integer: return "an integer " + r;
-      case toml::node_type::floating_point: return "a real number " + r;
-      case toml::node_type::boolean: return "a boolean " + r;
-      case toml::node_type::array: return "a list " + r;
-      case toml::node_type::table: return "a table";
-      case toml::node_type::date: return "a date " + r;
-      case toml::node_type::time: return "a time " + r;
-      case toml::node_type::date_time: return "a date-time " + r;
-      default: return "nothing";
+      case toml::node_type::string:
+        return "a string " + r;
+      case toml::node_type::integer:
+        return "an integer " + r;
+      case toml::node_type::floating_point:
+        return "a real number " + r;
+      case toml::node_type::boolean:
+        return "a boolean " + r;
+      case toml::node_type::array:
+        return "a list " + r;
+      case toml::node_type::table:
+        return "a table";
+      case toml::node_type::date:
+        return "a date " + r;
+      case toml::node_type::time:
+        return "a time " + r;
+      case toml::node_type::date_time:
+        return "a date-time " + r;
+      default:
+        return "nothing";
     }
   }
 
@@ -474,8 +487,9 @@ class Loader {
     if (const auto lb = tname.find('['); lb != std::string::npos) {
       const auto rb = tname.find(']', lb);
       const std::string digits = rb == std::string::npos ? "" : tname.substr(lb + 1, rb - lb - 1);
-      if (digits.empty() || rb != tname.size() - 1 ||
-          !std::all_of(digits.begin(), digits.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+      if (digits.empty() || rb != tname.size() - 1 || !std::all_of(digits.begin(), digits.end(), [](char c) {
+            return std::isdigit(static_cast<unsigned char>(c));
+          }))
         fail_at(at, fmt::format("cannot read the index in '{}': write e.g. region[0].diameter", parts[0]));
       entry_index = std::stoul(digits);
       tname = tname.substr(0, lb);
@@ -496,12 +510,13 @@ class Loader {
         created_[node] = index;
       }
       target = node->as_table();
-      if (!target) fail_at(at, fmt::format("cannot set {}: '{}' in the scene file is not a table [{}]", path,
-                                           tname, tname));
+      if (!target)
+        fail_at(at,
+                fmt::format("cannot set {}: '{}' in the scene file is not a table [{}]", path, tname, tname));
     } else {
       const bool named = find_key(*spec, "name") != nullptr;
-      const std::string example =
-          named ? fmt::format("{0}.<name>.<key> or {0}[<index>].<key>", tname) : fmt::format("{}[<index>].<key>", tname);
+      const std::string example = named ? fmt::format("{0}.<name>.<key> or {0}[<index>].<key>", tname)
+                                        : fmt::format("{}[<index>].<key>", tname);
       if (entry_index ? parts.size() != 2 : parts.size() != 3 || !named)
         fail_at(at, fmt::format("address one [[{}]] entry: write {}", tname, example));
       key = parts.back();
@@ -509,10 +524,11 @@ class Loader {
       const std::size_t count = entries ? entries->size() : 0;
       if (entry_index) {
         if (*entry_index >= count)
-          fail_at(at, count == 0 ? fmt::format("the scene has no [[{}]] entries", tname)
-                                 : fmt::format("index {} is out of range: the scene has {} [[{}]] entr{} "
-                                               "(index 0 to {})",
-                                               *entry_index, count, tname, count == 1 ? "y" : "ies", count - 1));
+          fail_at(at, count == 0
+                          ? fmt::format("the scene has no [[{}]] entries", tname)
+                          : fmt::format("index {} is out of range: the scene has {} [[{}]] entr{} "
+                                        "(index 0 to {})",
+                                        *entry_index, count, tname, count == 1 ? "y" : "ies", count - 1));
         target = (*entries)[*entry_index].as_table();
       } else {
         std::vector<std::string> names;
@@ -524,8 +540,9 @@ class Loader {
           names.push_back(n->get());
         }
         if (!target)
-          fail_at(at, fmt::format("no [[{}]] named '{}'{} ({})", tname, parts[1], did_you_mean(parts[1], names),
-                                  names.empty() ? "there are none" : "names: " + join(names)));
+          fail_at(at,
+                  fmt::format("no [[{}]] named '{}'{} ({})", tname, parts[1], did_you_mean(parts[1], names),
+                              names.empty() ? "there are none" : "names: " + join(names)));
       }
       if (!target) fail_at(at, fmt::format("[[{}]] entry {} is not a table", tname, *entry_index));
     }
@@ -572,30 +589,33 @@ class Loader {
       const bool is_array_of_tables = node.is_array_of_tables();
       if (!spec) {
         if (is_table || is_array_of_tables) {
-          const std::string written = is_table ? "[" + std::string(k.str()) + "]" : "[[" + std::string(k.str()) + "]]";
+          const std::string written =
+              is_table ? "[" + std::string(k.str()) + "]" : "[[" + std::string(k.str()) + "]]";
           report(pos_of(node), unknown_table_message(written, k.str()));
         } else {
           std::vector<std::string> owners;
           for (const auto& t : schema())
             if (find_key(t, k.str())) owners.push_back(bracket(t));
-          report(pos_of(k, node),
-                 owners.empty() ? fmt::format("unknown key '{}' outside any table (tables: {})", k.str(),
-                                              join(table_names()))
-                                : fmt::format("key '{}' is outside any table; it belongs in {}", k.str(),
-                                              join(owners, " or ")));
+          report(pos_of(k, node), owners.empty()
+                                      ? fmt::format("unknown key '{}' outside any table (tables: {})",
+                                                    k.str(), join(table_names()))
+                                      : fmt::format("key '{}' is outside any table; it belongs in {}",
+                                                    k.str(), join(owners, " or ")));
         }
         continue;
       }
       if (spec->array && is_table) {
-        report(pos_of(node), fmt::format("[{0}] must be written [[{0}]]: it is a list of tables, one per {0}",
-                                         spec->name));
+        report(pos_of(node),
+               fmt::format("[{0}] must be written [[{0}]]: it is a list of tables, one per {0}", spec->name));
       } else if (!spec->array && is_array_of_tables) {
-        report(pos_of(node), fmt::format("[[{0}]] must be written [{0}]: there is one [{0}] table", spec->name));
+        report(pos_of(node),
+               fmt::format("[[{0}]] must be written [{0}]: there is one [{0}] table", spec->name));
       } else if (spec->array && !node.is_array()) {
-        report(pos_of(k, node), fmt::format("'{0}' must be a list of tables, written [[{0}]], got {1}", spec->name,
-                                            got(node)));
+        report(pos_of(k, node), fmt::format("'{0}' must be a list of tables, written [[{0}]], got {1}",
+                                            spec->name, got(node)));
       } else if (!spec->array && !is_table) {
-        report(pos_of(k, node), fmt::format("'{0}' must be a table, written [{0}], got {1}", spec->name, got(node)));
+        report(pos_of(k, node),
+               fmt::format("'{0}' must be a table, written [{0}], got {1}", spec->name, got(node)));
       } else if (spec->array) {
         const auto& arr = *node.as_array();
         for (std::size_t j = 0; j < arr.size(); ++j) {
@@ -618,12 +638,14 @@ class Loader {
         }
         if (spec.required && (!node || (arr && arr->empty())))
           report(node ? pos_of(*node) : file_start(),
-                 fmt::format("missing required table {} ({})", bracket(spec), first_sentence(spec.doc)), !node);
+                 fmt::format("missing required table {} ({})", bracket(spec), first_sentence(spec.doc)),
+                 !node);
       } else {
         const toml::table* t = node ? node->as_table() : nullptr;
         out.push_back(check_table(spec, t, spec.name, t ? pos_of(*t) : file_start(), 0));
         if (spec.required && !node)
-          report(file_start(), fmt::format("missing required table {} ({})", bracket(spec), first_sentence(spec.doc)),
+          report(file_start(),
+                 fmt::format("missing required table {} ({})", bracket(spec), first_sentence(spec.doc)),
                  true);
       }
     }
@@ -633,12 +655,13 @@ class Loader {
   /// "[[region]] 'specimen'", "[[boundary]] at index 1", "[solver]".
   static std::string title(const TableSpec& spec, const toml::table* t, std::size_t index) {
     if (!spec.array) return bracket(spec);
-    if (auto* n = t ? t->get_as<std::string>("name") : nullptr) return fmt::format("{} '{}'", bracket(spec), n->get());
+    if (auto* n = t ? t->get_as<std::string>("name") : nullptr)
+      return fmt::format("{} '{}'", bracket(spec), n->get());
     return fmt::format("{} at index {}", bracket(spec), index);
   }
 
-  Table check_table(const TableSpec& spec, const toml::table* t, const std::string& label, const SourcePos& header,
-                    std::size_t index) {
+  Table check_table(const TableSpec& spec, const toml::table* t, const std::string& label,
+                    const SourcePos& header, std::size_t index) {
     Table out(label, header);
     std::set<std::string> suggested;  // keys that an unknown key is probably a misspelling of
     if (t) {
@@ -659,7 +682,7 @@ class Loader {
         // the user misspelt (the unknown-key message says "did you mean").
         if ((t || !spec.required) && !suggested.count(key.name))
           report(header, fmt::format("{} is missing required key '{}' ({})", title(spec, t, index), key.name,
-                                       first_sentence(key.doc)));
+                                     first_sentence(key.doc)));
       } else if (!key.default_value.empty()) {
         out.set(key.name, default_value(key, header));
       }
@@ -675,13 +698,15 @@ class Loader {
     auto v = convert(key, *doc.get("v"));
     dim_ = dim;
     if (!v || problems_.size() != before)
-      throw Error(ErrorKind::Internal, fmt::format("scene schema: bad default for '{}': {}", key.name,
-                                                   problems_.size() != before ? problems_.back().message : ""));
+      throw Error(ErrorKind::Internal,
+                  fmt::format("scene schema: bad default for '{}': {}", key.name,
+                              problems_.size() != before ? problems_.back().message : ""));
     v->given = false;
     v->pos = header;
     if (key.per_axis && dim_ > 0) {
       if (v->reals.size() > static_cast<std::size_t>(dim_)) v->reals.resize(static_cast<std::size_t>(dim_));
-      if (v->strings.size() > static_cast<std::size_t>(dim_)) v->strings.resize(static_cast<std::size_t>(dim_));
+      if (v->strings.size() > static_cast<std::size_t>(dim_))
+        v->strings.resize(static_cast<std::size_t>(dim_));
     }
     return *v;
   }
@@ -689,16 +714,36 @@ class Loader {
   std::optional<Value> type_error(const KeySpec& key, const std::string& name, const toml::node& n) {
     std::string expected;
     switch (key.type) {
-      case Type::Bool: expected = "true or false"; break;
-      case Type::Integer: expected = "an integer"; break;
-      case Type::Real: expected = "a real number"; break;
-      case Type::String: expected = "a string"; break;
-      case Type::Choice: expected = "one of " + join(key.choices); break;
-      case Type::Path: expected = "a file path (a string)"; break;
-      case Type::OutputPath: expected = "a path (a string)"; break;
-      case Type::RealList: expected = "a list of real numbers"; break;
-      case Type::StringList: expected = "a list of strings"; break;
-      case Type::RealTable: expected = "a list of rows of real numbers, e.g. [[0, 0], [1, 0]]"; break;
+      case Type::Bool:
+        expected = "true or false";
+        break;
+      case Type::Integer:
+        expected = "an integer";
+        break;
+      case Type::Real:
+        expected = "a real number";
+        break;
+      case Type::String:
+        expected = "a string";
+        break;
+      case Type::Choice:
+        expected = "one of " + join(key.choices);
+        break;
+      case Type::Path:
+        expected = "a file path (a string)";
+        break;
+      case Type::OutputPath:
+        expected = "a path (a string)";
+        break;
+      case Type::RealList:
+        expected = "a list of real numbers";
+        break;
+      case Type::StringList:
+        expected = "a list of strings";
+        break;
+      case Type::RealTable:
+        expected = "a list of rows of real numbers, e.g. [[0, 0], [1, 0]]";
+        break;
     }
     report(pos_of(n), fmt::format("{} must be {}{}, got {}", name, expected, unit_suffix(key), got(n)));
     return std::nullopt;
@@ -738,7 +783,8 @@ class Loader {
       // 3.2e7 is a fine way to write a step count; 1.5 is not a count.
       const double x = f->get();
       if (!std::isfinite(x) || std::floor(x) != x || std::abs(x) > 9.0e15) {
-        report(pos_of(n), fmt::format("{} must be an integer{}, got a real number {}", name, unit_suffix(key), raw(n)));
+        report(pos_of(n),
+               fmt::format("{} must be an integer{}, got a real number {}", name, unit_suffix(key), raw(n)));
         return std::nullopt;
       }
       i = static_cast<std::int64_t>(x);
@@ -822,8 +868,9 @@ class Loader {
           if (key.type == Type::Path) {
             std::error_code ec;
             if (!fs::exists(p, ec)) {
-              report(v.pos, fmt::format("{} '{}' not found (looked for {}; paths are relative to the scene file)",
-                                        name, v.s, p.string()));
+              report(v.pos,
+                     fmt::format("{} '{}' not found (looked for {}; paths are relative to the scene file)",
+                                 name, v.s, p.string()));
               return std::nullopt;
             }
             if (fs::is_directory(p, ec)) {
@@ -852,7 +899,8 @@ class Loader {
         if (!a) return type_error(key, name, n);
         bool ok = length_ok(key, name, a->size(), n, "entry", "entries");
         std::vector<std::string> allowed = key.choices;
-        if (key.per_axis && dim_ > 0) allowed.resize(std::min(allowed.size(), static_cast<std::size_t>(dim_)));
+        if (key.per_axis && dim_ > 0)
+          allowed.resize(std::min(allowed.size(), static_cast<std::size_t>(dim_)));
         for (std::size_t j = 0; j < a->size(); ++j) {
           const toml::node& e = (*a)[j];
           auto s = e.as_string();
@@ -863,12 +911,12 @@ class Loader {
           }
           const std::string& str = s->get();
           if (!key.choices.empty() && std::find(allowed.begin(), allowed.end(), str) == allowed.end()) {
-            const bool other_axis = key.per_axis && std::find(key.choices.begin(), key.choices.end(), str) !=
-                                                        key.choices.end();
-            report(pos_of(e), other_axis ? fmt::format("{}: '{}' is not an axis of a {}D scene (allowed: {})", name,
-                                                       str, dim_, join(allowed))
-                                         : fmt::format("{}: '{}' must be one of {}{}", name, str, join(allowed),
-                                                       did_you_mean(str, allowed)));
+            const bool other_axis =
+                key.per_axis && std::find(key.choices.begin(), key.choices.end(), str) != key.choices.end();
+            report(pos_of(e), other_axis ? fmt::format("{}: '{}' is not an axis of a {}D scene (allowed: {})",
+                                                       name, str, dim_, join(allowed))
+                                         : fmt::format("{}: '{}' must be one of {}{}", name, str,
+                                                       join(allowed), did_you_mean(str, allowed)));
             ok = false;
             continue;
           }
@@ -891,8 +939,8 @@ class Loader {
           const std::string row_name = fmt::format("{}[{}]", name, j);
           auto r = row.as_array();
           if (!r) {
-            report(pos_of(row), fmt::format("{} must be a list of real numbers{}, got {}", row_name, unit_suffix(key),
-                                            got(row)));
+            report(pos_of(row), fmt::format("{} must be a list of real numbers{}, got {}", row_name,
+                                            unit_suffix(key), got(row)));
             ok = false;
             continue;
           }
@@ -918,7 +966,8 @@ class Loader {
     if (!spec.array) return bracket(spec);
     if (t.has("name")) return fmt::format("{} '{}'", bracket(spec), t.str("name"));
     const std::string& l = t.label();
-    return fmt::format("{} at index {}", bracket(spec), l.substr(l.find('[') + 1, l.size() - l.find('[') - 2));
+    return fmt::format("{} at index {}", bracket(spec),
+                       l.substr(l.find('[') + 1, l.size() - l.find('[') - 2));
   }
 
   /// `key` of `t` must be one of `names`, the names of `what` ("[[material]]").
@@ -926,8 +975,9 @@ class Loader {
                        const std::vector<std::string>& names, const std::string& why = "") {
     const std::string& v = t.str(key);
     if (std::find(names.begin(), names.end(), v) != names.end()) return;
-    report(t.where(key), fmt::format("{} = \"{}\" names no {}{}{} ({})", key, v, what, why, did_you_mean(v, names),
-                                     names.empty() ? "there are none" : "defined: " + join(names)));
+    report(t.where(key),
+           fmt::format("{} = \"{}\" names no {}{}{} ({})", key, v, what, why, did_you_mean(v, names),
+                       names.empty() ? "there are none" : "defined: " + join(names)));
   }
 
   /// Names of the entries of an array table; a repeated name is a problem.
@@ -951,9 +1001,9 @@ class Loader {
   /// `t` must have `key` when `condition_key` has the value that needs it.
   void need(const TableSpec& spec, const Table& t, const std::string& key, const std::string& condition_key) {
     if (t.has(key)) return;
-    report(t.where(condition_key), fmt::format("{} needs '{}' for {} = \"{}\" ({})", entry_title(spec, t), key,
-                                               condition_key, t.str(condition_key),
-                                               first_sentence(find_key(spec, key)->doc)));
+    report(t.where(condition_key),
+           fmt::format("{} needs '{}' for {} = \"{}\" ({})", entry_title(spec, t), key, condition_key,
+                       t.str(condition_key), first_sentence(find_key(spec, key)->doc)));
   }
 
   void check_between_keys(const Scene& scene) {
@@ -966,9 +1016,10 @@ class Loader {
     auto groups = unique_names(scene, "group");
     for (const Table& g : scene.tables("group")) {
       if (std::find(regions.begin(), regions.end(), g.str("name")) != regions.end())
-        report(g.where("name"), fmt::format("[[group]] name '{}' is already a [[region]] name (every region is "
-                                            "also a group of its own name)",
-                                            g.str("name")));
+        report(g.where("name"),
+               fmt::format("[[group]] name '{}' is already a [[region]] name (every region is "
+                           "also a group of its own name)",
+                           g.str("name")));
     }
     groups.insert(groups.end(), regions.begin(), regions.end());
     const std::string group_what = "[[group]] or [[region]]";
@@ -981,22 +1032,26 @@ class Loader {
       if (lattice == "hex" && dim == 3)
         report(r.where("lattice"), "lattice = \"hex\" is for 2D scenes; in 3D use hcp or fcc (or auto)");
       if ((lattice == "hcp" || lattice == "fcc") && dim == 2)
-        report(r.where("lattice"), fmt::format("lattice = \"{}\" is for 3D scenes; in 2D use hex (or auto)", lattice));
+        report(r.where("lattice"),
+               fmt::format("lattice = \"{}\" is for 3D scenes; in 2D use hex (or auto)", lattice));
       const std::string& shape = r.str("shape");
       if (shape == "box") need(region_spec, r, "size", "shape");
       if (shape == "disk" || shape == "sphere") {
-        if (shape == "disk" && dim == 3) report(r.where("shape"), "shape = \"disk\" is for 2D scenes; in 3D use \"sphere\"");
-        if (shape == "sphere" && dim == 2) report(r.where("shape"), "shape = \"sphere\" is for 3D scenes; in 2D use \"disk\"");
+        if (shape == "disk" && dim == 3)
+          report(r.where("shape"), "shape = \"disk\" is for 2D scenes; in 3D use \"sphere\"");
+        if (shape == "sphere" && dim == 2)
+          report(r.where("shape"), "shape = \"sphere\" is for 3D scenes; in 2D use \"disk\"");
         need(region_spec, r, "center", "shape");
         need(region_spec, r, "radius", "shape");
       }
       if (shape == "polygon") {
         if (dim == 3)
-          report(r.where("shape"), "shape = \"polygon\" is for 2D scenes; in 3D use a geometry file (shape = \"file\")");
+          report(r.where("shape"),
+                 "shape = \"polygon\" is for 2D scenes; in 3D use a geometry file (shape = \"file\")");
         need(region_spec, r, "points", "shape");
         if (r.has("points") && r.real_table("points").size() < 3)
-          report(r.where("points"),
-                 fmt::format("points has {} corners; a polygon needs at least 3", r.real_table("points").size()));
+          report(r.where("points"), fmt::format("points has {} corners; a polygon needs at least 3",
+                                                r.real_table("points").size()));
       }
       if (shape == "file") {
         need(region_spec, r, "file", "shape");
@@ -1004,9 +1059,10 @@ class Loader {
           const std::string ext = lower(fs::path(r.str("file")).extension().string());
           static const std::vector<std::string> known = {".geo", ".msh", ".step", ".stp", ".stl", ".off"};
           if (std::find(known.begin(), known.end(), ext) == known.end())
-            report(r.where("file"), fmt::format("file '{}' is not a geometry file strata reads (allowed: .geo, "
-                                                ".msh, .step, .stl, .off)",
-                                                fs::path(r.str("file")).filename().string()));
+            report(r.where("file"),
+                   fmt::format("file '{}' is not a geometry file strata reads (allowed: .geo, "
+                               ".msh, .step, .stl, .off)",
+                               fs::path(r.str("file")).filename().string()));
         }
       }
     }
@@ -1021,8 +1077,9 @@ class Loader {
           const auto &lo = g.reals("box_min"), &hi = g.reals("box_max");
           for (std::size_t c = 0; c < lo.size() && c < hi.size(); ++c) {
             if (!(hi[c] > lo[c])) {
-              report(g.where("box_max"), fmt::format("box_max[{0}] = {1} must be greater than box_min[{0}] = {2}",
-                                                     c, hi[c], lo[c]));
+              report(
+                  g.where("box_max"),
+                  fmt::format("box_max[{0}] = {1} must be greater than box_min[{0}] = {2}", c, hi[c], lo[c]));
               break;
             }
           }
@@ -1042,14 +1099,16 @@ class Loader {
       const auto& times = l.reals("times");
       for (std::size_t j = 1; j < times.size(); ++j) {
         if (!(times[j] > times[j - 1])) {
-          report(l.where("times"), fmt::format("times must increase: times[{}] = {} is not after times[{}] = {}", j,
-                                               times[j], j - 1, times[j - 1]));
+          report(l.where("times"),
+                 fmt::format("times must increase: times[{}] = {} is not after times[{}] = {}", j, times[j],
+                             j - 1, times[j - 1]));
           break;
         }
       }
       if (l.real_table("forces").size() != times.size())
-        report(l.where("forces"), fmt::format("forces has {} rows but times has {} entries: give one force per time",
-                                              l.real_table("forces").size(), times.size()));
+        report(l.where("forces"),
+               fmt::format("forces has {} rows but times has {} entries: give one force per time",
+                           l.real_table("forces").size(), times.size()));
     }
 
     for (const Table& w : scene.tables("wall")) {
@@ -1078,7 +1137,7 @@ class Loader {
   fs::path dir_;
   std::vector<std::string> sets_;
   std::map<std::string, std::vector<std::string>> lines_;  // by source path: for raw()
-  std::map<const toml::node*, int> created_;                // tables created by an override
+  std::map<const toml::node*, int> created_;               // tables created by an override
   std::vector<Problem> problems_;
   int dim_ = 0;  // [scene].dimension once known to be valid, else 0
 };

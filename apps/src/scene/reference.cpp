@@ -36,13 +36,13 @@ std::string allowed(const KeySpec& k) {
     } else if (k.length_min > 0 || k.length_max > 0) {
       const int lo = k.length_min, hi = k.length_max;
       const bool single = (lo == hi || hi == 0) ? lo == 1 : (lo == 0 && hi == 1);
-      std::string n = lo == hi ? fmt::format("{}", lo)
+      std::string n = lo == hi  ? fmt::format("{}", lo)
                       : hi == 0 ? fmt::format("at least {}", lo)
                       : lo == 0 ? fmt::format("at most {}", hi)
                                 : fmt::format("{} to {}", lo, hi);
-      parts.push_back(fmt::format("{}{} {}", what, n,
-                                  k.type == Type::RealTable ? (single ? "value" : "values")
-                                                            : (single ? "entry" : "entries")));
+      parts.push_back(fmt::format(
+          "{}{} {}", what, n,
+          k.type == Type::RealTable ? (single ? "value" : "values") : (single ? "entry" : "entries")));
     }
     if (k.type == Type::StringList && !k.choices.empty())
       parts.push_back((k.per_axis ? "axes of the scene among " : "each one of ") + code_list(k.choices));
@@ -71,8 +71,10 @@ std::string reference_markdown() {
   out("<!-- Generated from apps/src/scene/schema.cpp by `strata reference`; do not edit by hand. -->\n\n");
   out("A scene is a [TOML](https://toml.io) file. Quantities are in SI units (m, s, kg, N) as listed in the "
       "unit column. Paths are relative to the scene file. Any key can be changed from the command line with "
-      "`--set table.key=value`, e.g. `--set solver.dt=1e-8`; entries of a list of tables are addressed by name "
-      "or by 0-based index (`--set material.rock.kn=1e9`, `--set region[0].diameter=0.002`). Values given with "
+      "`--set table.key=value`, e.g. `--set solver.dt=1e-8`; entries of a list of tables are addressed by "
+      "name "
+      "or by 0-based index (`--set material.rock.kn=1e9`, `--set region[0].diameter=0.002`). Values given "
+      "with "
       "`--set` are checked exactly like the file.\n\n");
   out("Integers are accepted where reals are expected, and reals without a fractional part (`3.2e7`) where "
       "integers are. Lists marked *one per axis* have 2 components (x, y) in a 2D scene and 3 (x, y, z) in "
@@ -88,8 +90,9 @@ std::string reference_markdown() {
 
   for (const TableSpec& t : schema()) {
     out(fmt::format("## {}\n\n", t.array ? "[[" + t.name + "]]" : "[" + t.name + "]"));
-    const char* presence = t.array ? (t.required ? "Required: one or more entries." : "Any number of entries.")
-                                   : (t.required ? "Required." : "Optional: every key has a default.");
+    const char* presence = t.array
+                               ? (t.required ? "Required: one or more entries." : "Any number of entries.")
+                               : (t.required ? "Required." : "Optional: every key has a default.");
     out(fmt::format("{} {}\n\n", t.doc, presence));
     out("| key | type | unit | default | allowed | description |\n");
     out("|---|---|---|---|---|---|\n");

@@ -20,22 +20,57 @@ class K {
     k_.type = type;
     k_.unit = std::move(unit);
   }
-  K& doc(std::string d) { k_.doc = std::move(d); return *this; }
-  K& required() { k_.required = true; return *this; }
-  K& def(std::string toml_text) { k_.default_value = std::move(toml_text); return *this; }
-  K& ge(double v) { k_.min = v; k_.min_exclusive = false; return *this; }
-  K& gt(double v) { k_.min = v; k_.min_exclusive = true; return *this; }
-  K& le(double v) { k_.max = v; k_.max_exclusive = false; return *this; }
-  K& lt(double v) { k_.max = v; k_.max_exclusive = true; return *this; }
-  K& choices(std::vector<std::string> c) { k_.choices = std::move(c); return *this; }
-  K& length(int lo, int hi) { k_.length_min = lo; k_.length_max = hi; return *this; }
+  K& doc(std::string d) {
+    k_.doc = std::move(d);
+    return *this;
+  }
+  K& required() {
+    k_.required = true;
+    return *this;
+  }
+  K& def(std::string toml_text) {
+    k_.default_value = std::move(toml_text);
+    return *this;
+  }
+  K& ge(double v) {
+    k_.min = v;
+    k_.min_exclusive = false;
+    return *this;
+  }
+  K& gt(double v) {
+    k_.min = v;
+    k_.min_exclusive = true;
+    return *this;
+  }
+  K& le(double v) {
+    k_.max = v;
+    k_.max_exclusive = false;
+    return *this;
+  }
+  K& lt(double v) {
+    k_.max = v;
+    k_.max_exclusive = true;
+    return *this;
+  }
+  K& choices(std::vector<std::string> c) {
+    k_.choices = std::move(c);
+    return *this;
+  }
+  K& length(int lo, int hi) {
+    k_.length_min = lo;
+    k_.length_max = hi;
+    return *this;
+  }
   /// One component per axis: 2 in 2D, 3 in 3D.
   K& per_axis() {
     k_.per_axis = true;
     if (k_.type != Type::StringList) k_.length_min = 2, k_.length_max = 3;
     return *this;
   }
-  K& allow_inf() { k_.allow_inf = true; return *this; }
+  K& allow_inf() {
+    k_.allow_inf = true;
+    return *this;
+  }
   operator KeySpec() const { return k_; }  // NOLINT: implicit on purpose, for the tables below
 
  private:
@@ -49,240 +84,366 @@ constexpr Type Bool = Type::Bool, Integer = Type::Integer, Real = Type::Real, St
 std::vector<TableSpec> make_schema() {
   std::vector<TableSpec> s;
 
-  s.push_back({"scene", false, true,
-               "What the model is: a title, 2D or 3D, and the random seed.",
-               {
-                   K("title", String).def(R"("")").doc("A name for the run, shown in reports and pictures."),
-                   K("dimension", Integer).required().ge(2).le(3).doc(
-                       "2 for a plane model of disks (hexagonal lattice), 3 for a model of spheres "
-                       "(close-packed lattice)."),
-                   K("thickness", Real, "m").gt(0).def("1.0").doc(
-                       "Out-of-plane thickness of a 2D model: forces per unit thickness are divided by it "
-                       "to give stresses. Not used in 3D."),
-                   K("seed", Integer).ge(0).def("1").doc(
-                       "Seed of the random numbers (eccentric lattices, SPEC C4); the same seed gives the "
-                       "same model."),
-               }});
+  s.push_back(
+      {"scene",
+       false,
+       true,
+       "What the model is: a title, 2D or 3D, and the random seed.",
+       {
+           K("title", String).def(R"("")").doc("A name for the run, shown in reports and pictures."),
+           K("dimension", Integer)
+               .required()
+               .ge(2)
+               .le(3)
+               .doc("2 for a plane model of disks (hexagonal lattice), 3 for a model of spheres "
+                    "(close-packed lattice)."),
+           K("thickness", Real, "m")
+               .gt(0)
+               .def("1.0")
+               .doc("Out-of-plane thickness of a 2D model: forces per unit thickness are divided by it "
+                    "to give stresses. Not used in 3D."),
+           K("seed", Integer)
+               .ge(0)
+               .def("1")
+               .doc("Seed of the random numbers (eccentric lattices, SPEC C4); the same seed gives the "
+                    "same model."),
+       }});
 
-  s.push_back({"material", true, true,
-               "A bonded-particle material: density, bond stiffnesses and bond strengths of the solid-lattice "
-               "law (SPEC C1). Regions refer to a material by its name.",
-               {
-                   K("name", String).required().doc("The material's name, used by the `material` key of [[region]]."),
-                   K("law", Choice).choices({"solid_lattice"}).def(R"("solid_lattice")").doc(
-                       "Force law between particles. solid_lattice: linear normal and shear springs with "
-                       "bonds that break (Liu, Pollard & Shi 2013; SPEC C1)."),
-                   K("density", Real, "kg/m^2 in 2D, kg/m^3 in 3D").required().gt(0).doc(
-                       "Mass density: per unit thickness in 2D (a disk of diameter d has mass "
-                       "ρ·(√3/2)·d², SPEC C1), per volume in 3D."),
-                   K("kn", Real, "N/m").required().gt(0).doc(
-                       "Kn: normal stiffness of a bond or contact, Fn = Kn·Un with Un the overlap, "
-                       "compression positive (SPEC C1)."),
-                   K("ks", Real, "N/m").required().ge(0).doc(
-                       "Ks: shear stiffness, Fs = Ks·Us with Us the shear displacement accumulated since "
-                       "the contact formed (SPEC C1)."),
-                   K("friction", Real).ge(0).def("0.0").doc(
-                       "μ: friction coefficient. A broken bond whose particles still touch carries "
-                       "|Fs| ≤ μ·Fn and no tension (SPEC C1)."),
-                   K("tensile_strength", Real, "N").ge(0).allow_inf().def("inf").doc(
-                       "Fn_max: a bond breaks in tension when its normal force falls below −Fn_max "
-                       "(SPEC C1). inf: bonds never break in tension."),
-                   K("shear_strength", Real, "N").ge(0).allow_inf().def("inf").doc(
-                       "Fs0: an intact bond breaks in shear when |Fs| exceeds Fs0 (Fs0 + μ·Fn with "
-                       "friction_strengthens_bonds; SPEC C1). inf: bonds never break in shear."),
-                   K("friction_strengthens_bonds", Bool).def("false").doc(
-                       "The SPEC C1 variant: when true an intact bond's shear limit is Fs0 + μ·Fn (the "
-                       "paper's criterion (5) read literally), when false it is Fs0; SPEC C1 estimates that "
-                       "false matches the paper's peak strain of about 2.8e-3."),
-               }});
+  s.push_back(
+      {"material",
+       true,
+       true,
+       "A bonded-particle material: density, bond stiffnesses and bond strengths of the solid-lattice "
+       "law (SPEC C1). Regions refer to a material by its name.",
+       {
+           K("name", String).required().doc("The material's name, used by the `material` key of [[region]]."),
+           K("law", Choice)
+               .choices({"solid_lattice"})
+               .def(R"("solid_lattice")")
+               .doc("Force law between particles. solid_lattice: linear normal and shear springs with "
+                    "bonds that break (Liu, Pollard & Shi 2013; SPEC C1)."),
+           K("density", Real, "kg/m^2 in 2D, kg/m^3 in 3D")
+               .required()
+               .gt(0)
+               .doc("Mass density: per unit thickness in 2D (a disk of diameter d has mass "
+                    "ρ·(√3/2)·d², SPEC C1), per volume in 3D."),
+           K("kn", Real, "N/m")
+               .required()
+               .gt(0)
+               .doc("Kn: normal stiffness of a bond or contact, Fn = Kn·Un with Un the overlap, "
+                    "compression positive (SPEC C1)."),
+           K("ks", Real, "N/m")
+               .required()
+               .ge(0)
+               .doc("Ks: shear stiffness, Fs = Ks·Us with Us the shear displacement accumulated since "
+                    "the contact formed (SPEC C1)."),
+           K("friction", Real)
+               .ge(0)
+               .def("0.0")
+               .doc("μ: friction coefficient. A broken bond whose particles still touch carries "
+                    "|Fs| ≤ μ·Fn and no tension (SPEC C1)."),
+           K("tensile_strength", Real, "N")
+               .ge(0)
+               .allow_inf()
+               .def("inf")
+               .doc("Fn_max: a bond breaks in tension when its normal force falls below −Fn_max "
+                    "(SPEC C1). inf: bonds never break in tension."),
+           K("shear_strength", Real, "N")
+               .ge(0)
+               .allow_inf()
+               .def("inf")
+               .doc("Fs0: an intact bond breaks in shear when |Fs| exceeds Fs0 (Fs0 + μ·Fn with "
+                    "friction_strengthens_bonds; SPEC C1). inf: bonds never break in shear."),
+           K("friction_strengthens_bonds", Bool)
+               .def("false")
+               .doc("The SPEC C1 variant: when true an intact bond's shear limit is Fs0 + μ·Fn (the "
+                    "paper's criterion (5) read literally), when false it is Fs0; SPEC C1 estimates that "
+                    "false matches the paper's peak strain of about 2.8e-3."),
+       }});
 
-  s.push_back({"region", true, true,
-               "A part of the model: a lattice of particles (disks in 2D, spheres in 3D) or a finite-element "
-               "mesh, filling a simple shape or a geometry file.",
-               {
-                   K("name", String).required().doc("The region's name, used by the `region` key of [[group]]."),
-                   K("kind", Choice).choices({"particles", "fem"}).def(R"("particles")").doc(
-                       "particles: bonded particles (DEM); fem: finite elements."),
-                   K("material", String).required().doc("The [[material]] that fills the region, by name."),
-                   K("lattice", Choice).choices({"auto", "hex", "hcp", "fcc"}).def(R"("auto")").doc(
-                       "Packing of the particles: hex (2D), hcp or fcc (3D); auto is hex in 2D and hcp "
-                       "in 3D (SPEC C2)."),
-                   K("diameter", Real, "m").gt(0).doc(
-                       "Particle diameter d; required when kind = \"particles\"."),
-                   K("shape", Choice).choices({"box", "disk", "sphere", "polygon", "file"}).def(R"("box")").doc(
-                       "What the region fills: box (origin, size), disk in 2D or sphere in 3D (center, "
-                       "radius), polygon in 2D (points), or a geometry file (file)."),
-                   K("origin", RealList, "m").per_axis().def("[0.0, 0.0, 0.0]").doc(
-                       "Lower corner of a box."),
-                   K("size", RealList, "m").per_axis().gt(0).doc(
-                       "Extent of a box along each axis; required when shape = \"box\"."),
-                   K("center", RealList, "m").per_axis().doc(
-                       "Centre of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
-                   K("radius", Real, "m").gt(0).doc(
-                       "Radius of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
-                   K("points", RealTable, "m").length(2, 2).doc(
-                       "Corners of a polygon in order, as [[x, y], ...] (at least 3); required when "
-                       "shape = \"polygon\"."),
-                   K("file", Path).doc(
-                       "Geometry file (.geo, .msh, .step, .stl or .off), relative to the scene file; "
-                       "required when shape = \"file\"."),
-                   K("orientation", Real, "degrees").def("0.0").doc(
-                       "Rotation of the lattice about the z axis, counter-clockwise."),
-                   K("mesh_size", Real, "m").ge(0).def("0.0").doc(
-                       "Finite-element size for kind = \"fem\"; 0 chooses one automatically."),
-               }});
+  s.push_back(
+      {"region",
+       true,
+       true,
+       "A part of the model: a lattice of particles (disks in 2D, spheres in 3D) or a finite-element "
+       "mesh, filling a simple shape or a geometry file.",
+       {
+           K("name", String).required().doc("The region's name, used by the `region` key of [[group]]."),
+           K("kind", Choice)
+               .choices({"particles", "fem"})
+               .def(R"("particles")")
+               .doc("particles: bonded particles (DEM); fem: finite elements."),
+           K("material", String).required().doc("The [[material]] that fills the region, by name."),
+           K("lattice", Choice)
+               .choices({"auto", "hex", "hcp", "fcc"})
+               .def(R"("auto")")
+               .doc("Packing of the particles: hex (2D), hcp or fcc (3D); auto is hex in 2D and hcp "
+                    "in 3D (SPEC C2)."),
+           K("diameter", Real, "m").gt(0).doc("Particle diameter d; required when kind = \"particles\"."),
+           K("shape", Choice)
+               .choices({"box", "disk", "sphere", "polygon", "file"})
+               .def(R"("box")")
+               .doc("What the region fills: box (origin, size), disk in 2D or sphere in 3D (center, "
+                    "radius), polygon in 2D (points), or a geometry file (file)."),
+           K("origin", RealList, "m").per_axis().def("[0.0, 0.0, 0.0]").doc("Lower corner of a box."),
+           K("size", RealList, "m")
+               .per_axis()
+               .gt(0)
+               .doc("Extent of a box along each axis; required when shape = \"box\"."),
+           K("center", RealList, "m")
+               .per_axis()
+               .doc("Centre of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
+           K("radius", Real, "m")
+               .gt(0)
+               .doc("Radius of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
+           K("points", RealTable, "m")
+               .length(2, 2)
+               .doc("Corners of a polygon in order, as [[x, y], ...] (at least 3); required when "
+                    "shape = \"polygon\"."),
+           K("file", Path)
+               .doc("Geometry file (.geo, .msh, .step, .stl or .off), relative to the scene file; "
+                    "required when shape = \"file\"."),
+           K("orientation", Real, "degrees")
+               .def("0.0")
+               .doc("Rotation of the lattice about the z axis, counter-clockwise."),
+           K("mesh_size", Real, "m")
+               .ge(0)
+               .def("0.0")
+               .doc("Finite-element size for kind = \"fem\"; 0 chooses one automatically."),
+       }});
 
-  s.push_back({"group", true, false,
-               "A named set of particles picked from a region, for boundary conditions, loads and probes. Every "
-               "region is also a group of its own name, holding all its particles.",
-               {
-                   K("name", String).required().doc(
-                       "The group's name, used by [[boundary]], [[load]] and [probe]; it must differ from every "
-                       "region name."),
-                   K("region", String).def(R"("")").doc("The [[region]] to pick from, by name; empty: all regions."),
-                   K("select", Choice)
-                       .choices({"all", "top_row", "bottom_row", "left_column", "right_column", "top_layer",
-                                 "bottom_layer", "box"})
-                       .def(R"("all")")
-                       .doc("Which particles: all; the row with the largest or smallest y (top_row, "
-                            "bottom_row); the column with the smallest or largest x (left_column, "
-                            "right_column); the layer with the largest or smallest z in 3D (top_layer, "
-                            "bottom_layer); or those whose centres lie between box_min and box_max (box)."),
-                   K("box_min", RealList, "m").per_axis().doc(
-                       "Lower corner of the selection box; required when select = \"box\"."),
-                   K("box_max", RealList, "m").per_axis().doc(
-                       "Upper corner of the selection box; required when select = \"box\"."),
-               }});
+  s.push_back(
+      {"group",
+       true,
+       false,
+       "A named set of particles picked from a region, for boundary conditions, loads and probes. Every "
+       "region is also a group of its own name, holding all its particles.",
+       {
+           K("name", String)
+               .required()
+               .doc("The group's name, used by [[boundary]], [[load]] and [probe]; it must differ from every "
+                    "region name."),
+           K("region", String).def(R"("")").doc("The [[region]] to pick from, by name; empty: all regions."),
+           K("select", Choice)
+               .choices({"all", "top_row", "bottom_row", "left_column", "right_column", "top_layer",
+                         "bottom_layer", "box"})
+               .def(R"("all")")
+               .doc("Which particles: all; the row with the largest or smallest y (top_row, "
+                    "bottom_row); the column with the smallest or largest x (left_column, "
+                    "right_column); the layer with the largest or smallest z in 3D (top_layer, "
+                    "bottom_layer); or those whose centres lie between box_min and box_max (box)."),
+           K("box_min", RealList, "m")
+               .per_axis()
+               .doc("Lower corner of the selection box; required when select = \"box\"."),
+           K("box_max", RealList, "m")
+               .per_axis()
+               .doc("Upper corner of the selection box; required when select = \"box\"."),
+       }});
 
-  s.push_back({"boundary", true, false,
-               "A prescribed motion of a group: held fixed, moved at a constant velocity, or moved in steps "
-               "(the loading platens of SPEC C1).",
-               {
-                   K("group", String).required().doc(
-                       "The [[group]] it applies to, by name (a [[region]] name stands for all its particles)."),
-                   K("type", Choice).required().choices({"fixed", "velocity", "step_displacement"}).doc(
-                       "fixed: held in place; velocity: moved at `velocity`; step_displacement: moved by "
-                       "`increment` every `every` steps (SPEC C1 moves its platens 1.9e-9 m every 400 "
-                       "steps)."),
-                   K("axes", StringList).choices({"x", "y", "z"}).per_axis().length(1, 3).def(R"(["x", "y", "z"])").doc(
-                       "Which components are prescribed; the others stay free. Default: all axes."),
-                   K("velocity", RealList, "m/s").per_axis().doc(
-                       "Velocity, one component per axis; required when type = \"velocity\"."),
-                   K("increment", RealList, "m").per_axis().doc(
-                       "Displacement added every `every` steps; required when type = "
-                       "\"step_displacement\"."),
-                   K("every", Integer, "steps").ge(1).def("1").doc(
-                       "Steps between two increments (type = \"step_displacement\")."),
-               }});
+  s.push_back(
+      {"boundary",
+       true,
+       false,
+       "A prescribed motion of a group: held fixed, moved at a constant velocity, or moved in steps "
+       "(the loading platens of SPEC C1).",
+       {
+           K("group", String)
+               .required()
+               .doc("The [[group]] it applies to, by name (a [[region]] name stands for all its particles)."),
+           K("type", Choice)
+               .required()
+               .choices({"fixed", "velocity", "step_displacement"})
+               .doc("fixed: held in place; velocity: moved at `velocity`; step_displacement: moved by "
+                    "`increment` every `every` steps (SPEC C1 moves its platens 1.9e-9 m every 400 "
+                    "steps)."),
+           K("axes", StringList)
+               .choices({"x", "y", "z"})
+               .per_axis()
+               .length(1, 3)
+               .def(R"(["x", "y", "z"])")
+               .doc("Which components are prescribed; the others stay free. Default: all axes."),
+           K("velocity", RealList, "m/s")
+               .per_axis()
+               .doc("Velocity, one component per axis; required when type = \"velocity\"."),
+           K("increment", RealList, "m")
+               .per_axis()
+               .doc("Displacement added every `every` steps; required when type = "
+                    "\"step_displacement\"."),
+           K("every", Integer, "steps")
+               .ge(1)
+               .def("1")
+               .doc("Steps between two increments (type = \"step_displacement\")."),
+       }});
 
-  s.push_back({"load", true, false,
-               "A force history applied to a group, e.g. the blast pulse on the rim of a hole (SPEC C4); "
-               "the force is interpolated linearly between the listed times.",
-               {
-                   K("group", String).required().doc(
-                       "The [[group]] it applies to, by name (a [[region]] name stands for all its particles)."),
-                   K("type", Choice).choices({"force_history"}).def(R"("force_history")").doc(
-                       "force_history: forces given at a list of times."),
-                   K("times", RealList, "s").required().ge(0).length(1, 0).doc(
-                       "Times of the force values, increasing."),
-                   K("forces", RealTable, "N").required().per_axis().doc(
-                       "One force per time, each with one component per axis, as [[fx, fy], ...]."),
-                   K("per", Choice).choices({"particle", "group"}).def(R"("particle")").doc(
-                       "particle: each particle of the group gets the force; group: the force is shared "
-                       "equally by the group's particles."),
-               }});
+  s.push_back(
+      {"load",
+       true,
+       false,
+       "A force history applied to a group, e.g. the blast pulse on the rim of a hole (SPEC C4); "
+       "the force is interpolated linearly between the listed times.",
+       {
+           K("group", String)
+               .required()
+               .doc("The [[group]] it applies to, by name (a [[region]] name stands for all its particles)."),
+           K("type", Choice)
+               .choices({"force_history"})
+               .def(R"("force_history")")
+               .doc("force_history: forces given at a list of times."),
+           K("times", RealList, "s")
+               .required()
+               .ge(0)
+               .length(1, 0)
+               .doc("Times of the force values, increasing."),
+           K("forces", RealTable, "N")
+               .required()
+               .per_axis()
+               .doc("One force per time, each with one component per axis, as [[fx, fy], ...]."),
+           K("per", Choice)
+               .choices({"particle", "group"})
+               .def(R"("particle")")
+               .doc("particle: each particle of the group gets the force; group: the force is shared "
+                    "equally by the group's particles."),
+       }});
 
-  s.push_back({"wall", true, false,
-               "A rigid flat wall (a platen) that particles cannot cross; it pushes back with a linear "
-               "spring and may move at a constant velocity.",
-               {
-                   K("name", String).required().doc("The wall's name, used in output."),
-                   K("point", RealList, "m").required().per_axis().doc("A point on the wall."),
-                   K("normal", RealList).required().per_axis().doc(
-                       "Direction perpendicular to the wall, pointing into the particles (need not be of "
-                       "unit length)."),
-                   K("velocity", RealList, "m/s").per_axis().def("[0.0, 0.0, 0.0]").doc(
-                       "Constant velocity of the wall."),
-                   K("stiffness", Real, "N/m").ge(0).def("0.0").doc(
-                       "Normal stiffness of particle-wall contacts; 0 uses the largest material kn."),
-               }});
+  s.push_back(
+      {"wall",
+       true,
+       false,
+       "A rigid flat wall (a platen) that particles cannot cross; it pushes back with a linear "
+       "spring and may move at a constant velocity.",
+       {
+           K("name", String).required().doc("The wall's name, used in output."),
+           K("point", RealList, "m").required().per_axis().doc("A point on the wall."),
+           K("normal", RealList)
+               .required()
+               .per_axis()
+               .doc("Direction perpendicular to the wall, pointing into the particles (need not be of "
+                    "unit length)."),
+           K("velocity", RealList, "m/s")
+               .per_axis()
+               .def("[0.0, 0.0, 0.0]")
+               .doc("Constant velocity of the wall."),
+           K("stiffness", Real, "N/m")
+               .ge(0)
+               .def("0.0")
+               .doc("Normal stiffness of particle-wall contacts; 0 uses the largest material kn."),
+       }});
 
-  s.push_back({"solver", false, false,
-               "Time stepping and damping. Before a run strata compares the time step with the critical one "
-               "(for the 2D lattice dt_crit = 2·√(m/(6Kn+2Ks)), SPEC C1).",
-               {
-                   K("dt", Real, "s").ge(0).def("0.0").doc(
-                       "Time step; 0 chooses dt_safety × dt_crit. A dt above dt_crit is refused unless "
-                       "allow_unstable = true."),
-                   K("dt_safety", Real).gt(0).le(1).def("0.2").doc(
-                       "Fraction of the critical time step used when dt = 0 (the paper of SPEC C1 used "
-                       "0.14)."),
-                   K("steps", Integer).ge(0).def("0").doc(
-                       "Number of time steps; when 0 the run lasts `duration`. Set steps or duration."),
-                   K("duration", Real, "s").ge(0).def("0.0").doc(
-                       "Simulated time, used when steps = 0."),
-                   K("damping", Choice).choices({"none", "viscous", "local"}).def(R"("none")").doc(
-                       "none; viscous: a force −c·v on each particle (the paper's artificial viscosity, "
-                       "SPEC C1); local: each force component is reduced by local_damping times its size, "
-                       "against the velocity (Cundall's local damping)."),
-                   K("viscous_c", Real, "N·s/m").ge(0).def("0.0").doc(
-                       "c of the viscous damping force −c·v (SPEC C1 uses 1.16e3 N·s/m)."),
-                   K("local_damping", Real).ge(0).lt(1).def("0.7").doc(
-                       "Coefficient of local damping (damping = \"local\")."),
-                   K("gravity", RealList, "m/s^2").per_axis().def("[0.0, 0.0, 0.0]").doc(
-                       "Acceleration of gravity, e.g. [0, -9.81] in 2D."),
-                   K("contact_detection", Choice).choices({"auto", "on", "off"}).def(R"("auto")").doc(
-                       "Search for new contacts between particles that were not bonded at the start: on, "
-                       "off, or auto (on only when particles can meet new neighbours, e.g. when bonds can "
-                       "break or walls move)."),
-                   K("allow_unstable", Bool).def("false").doc(
-                       "Run even when dt exceeds the critical time step, with a warning."),
-                   K("threads", Integer).ge(0).def("0").doc(
-                       "Number of threads; 0 uses all cores. Results are the same for any number."),
-               }});
+  s.push_back(
+      {"solver",
+       false,
+       false,
+       "Time stepping and damping. Before a run strata compares the time step with the critical one "
+       "(for the 2D lattice dt_crit = 2·√(m/(6Kn+2Ks)), SPEC C1).",
+       {
+           K("dt", Real, "s")
+               .ge(0)
+               .def("0.0")
+               .doc("Time step; 0 chooses dt_safety × dt_crit. A dt above dt_crit is refused unless "
+                    "allow_unstable = true."),
+           K("dt_safety", Real)
+               .gt(0)
+               .le(1)
+               .def("0.2")
+               .doc("Fraction of the critical time step used when dt = 0 (the paper of SPEC C1 used "
+                    "0.14)."),
+           K("steps", Integer)
+               .ge(0)
+               .def("0")
+               .doc("Number of time steps; when 0 the run lasts `duration`. Set steps or duration."),
+           K("duration", Real, "s").ge(0).def("0.0").doc("Simulated time, used when steps = 0."),
+           K("damping", Choice)
+               .choices({"none", "viscous", "local"})
+               .def(R"("none")")
+               .doc("none; viscous: a force −c·v on each particle (the paper's artificial viscosity, "
+                    "SPEC C1); local: each force component is reduced by local_damping times its size, "
+                    "against the velocity (Cundall's local damping)."),
+           K("viscous_c", Real, "N·s/m")
+               .ge(0)
+               .def("0.0")
+               .doc("c of the viscous damping force −c·v (SPEC C1 uses 1.16e3 N·s/m)."),
+           K("local_damping", Real)
+               .ge(0)
+               .lt(1)
+               .def("0.7")
+               .doc("Coefficient of local damping (damping = \"local\")."),
+           K("gravity", RealList, "m/s^2")
+               .per_axis()
+               .def("[0.0, 0.0, 0.0]")
+               .doc("Acceleration of gravity, e.g. [0, -9.81] in 2D."),
+           K("contact_detection", Choice)
+               .choices({"auto", "on", "off"})
+               .def(R"("auto")")
+               .doc("Search for new contacts between particles that were not bonded at the start: on, "
+                    "off, or auto (on only when particles can meet new neighbours, e.g. when bonds can "
+                    "break or walls move)."),
+           K("allow_unstable", Bool)
+               .def("false")
+               .doc("Run even when dt exceeds the critical time step, with a warning."),
+           K("threads", Integer)
+               .ge(0)
+               .def("0")
+               .doc("Number of threads; 0 uses all cores. Results are the same for any number."),
+       }});
 
-  s.push_back({"output", false, false,
-               "What a run writes, and how often.",
-               {
-                   K("directory", OutputPath).def(R"("out")").doc(
-                       "Output folder, relative to the scene file; `strata run -o` overrides it."),
-                   K("frames", Integer).ge(0).def("20").doc(
-                       "Number of VTK frames, evenly spaced over the run; 0 writes none."),
-                   K("probe_every", Integer, "steps").ge(0).def("0").doc(
-                       "Steps between two probe rows; 0 gives about 2000 rows per run."),
-                   K("vtk", Bool).def("true").doc(
-                       "Write VTK frames (.vtp/.vtu files and a .pvd collection) for ParaView."),
-                   K("render", Bool).def("true").doc("Render the frames to PNG pictures."),
-                   K("render_field", Choice).choices({"displacement", "velocity", "damage", "group"})
-                       .def(R"("damage")")
-                       .doc("What colours the particles in the pictures; damage also colours broken bonds "
-                            "by how they broke (tension or shear)."),
-                   K("fields", StringList)
-                       .choices({"id", "radius", "displacement", "velocity", "force", "group", "damage"})
-                       .def(R"(["id", "radius", "displacement", "velocity", "force", "group", "damage"])")
-                       .doc("Per-particle fields written to the VTK frames."),
-                   K("movie", Bool).def("true").doc(
-                       "Join the pictures into an MP4 movie when ffmpeg is installed."),
-               }});
+  s.push_back(
+      {"output",
+       false,
+       false,
+       "What a run writes, and how often.",
+       {
+           K("directory", OutputPath)
+               .def(R"("out")")
+               .doc("Output folder, relative to the scene file; `strata run -o` overrides it."),
+           K("frames", Integer)
+               .ge(0)
+               .def("20")
+               .doc("Number of VTK frames, evenly spaced over the run; 0 writes none."),
+           K("probe_every", Integer, "steps")
+               .ge(0)
+               .def("0")
+               .doc("Steps between two probe rows; 0 gives about 2000 rows per run."),
+           K("vtk", Bool)
+               .def("true")
+               .doc("Write VTK frames (.vtp/.vtu files and a .pvd collection) for ParaView."),
+           K("render", Bool).def("true").doc("Render the frames to PNG pictures."),
+           K("render_field", Choice)
+               .choices({"displacement", "velocity", "damage", "group"})
+               .def(R"("damage")")
+               .doc("What colours the particles in the pictures; damage also colours broken bonds "
+                    "by how they broke (tension or shear)."),
+           K("fields", StringList)
+               .choices({"id", "radius", "displacement", "velocity", "force", "group", "damage"})
+               .def(R"(["id", "radius", "displacement", "velocity", "force", "group", "damage"])")
+               .doc("Per-particle fields written to the VTK frames."),
+           K("movie", Bool).def("true").doc("Join the pictures into an MP4 movie when ffmpeg is installed."),
+       }});
 
-  s.push_back({"probe", false, false,
-               "Measurements written as CSV rows during the run (every output.probe_every steps).",
-               {
-                   K("stress_strain", Bool).def("false").doc(
-                       "Record the axial stress and strain of a specimen between two groups, as in a "
-                       "laboratory compression test (SPEC C1); needs top_group and bottom_group."),
-                   K("top_group", String).def(R"("top")").doc(
-                       "The [[group]] (or [[region]]) at the upper end of the specimen (stress_strain)."),
-                   K("bottom_group", String).def(R"("bottom")").doc(
-                       "The [[group]] (or [[region]]) at the lower end of the specimen (stress_strain)."),
-                   K("axis", Choice).choices({"x", "y", "z"}).def(R"("y")").doc(
-                       "Loading axis of stress_strain."),
-                   K("energy", Bool).def("true").doc(
-                       "Record the kinetic energy, the elastic energy of bonds and contacts, and the work "
-                       "done by damping."),
-                   K("broken_bonds", Bool).def("true").doc(
-                       "Record the number of bonds broken in tension and in shear."),
-               }});
+  s.push_back(
+      {"probe",
+       false,
+       false,
+       "Measurements written as CSV rows during the run (every output.probe_every steps).",
+       {
+           K("stress_strain", Bool)
+               .def("false")
+               .doc("Record the axial stress and strain of a specimen between two groups, as in a "
+                    "laboratory compression test (SPEC C1); needs top_group and bottom_group."),
+           K("top_group", String)
+               .def(R"("top")")
+               .doc("The [[group]] (or [[region]]) at the upper end of the specimen (stress_strain)."),
+           K("bottom_group", String)
+               .def(R"("bottom")")
+               .doc("The [[group]] (or [[region]]) at the lower end of the specimen (stress_strain)."),
+           K("axis", Choice).choices({"x", "y", "z"}).def(R"("y")").doc("Loading axis of stress_strain."),
+           K("energy", Bool)
+               .def("true")
+               .doc("Record the kinetic energy, the elastic energy of bonds and contacts, and the work "
+                    "done by damping."),
+           K("broken_bonds", Bool)
+               .def("true")
+               .doc("Record the number of bonds broken in tension and in shear."),
+       }});
   return s;
 }
 
@@ -312,16 +473,26 @@ std::string range_text(const KeySpec& key) {
 
 std::string type_name(Type type) {
   switch (type) {
-    case Type::Bool: return "bool";
-    case Type::Integer: return "integer";
-    case Type::Real: return "real";
-    case Type::String: return "string";
-    case Type::Choice: return "choice";
-    case Type::Path: return "path";
-    case Type::OutputPath: return "output path";
-    case Type::RealList: return "list of reals";
-    case Type::StringList: return "list of strings";
-    case Type::RealTable: return "list of rows of reals";
+    case Type::Bool:
+      return "bool";
+    case Type::Integer:
+      return "integer";
+    case Type::Real:
+      return "real";
+    case Type::String:
+      return "string";
+    case Type::Choice:
+      return "choice";
+    case Type::Path:
+      return "path";
+    case Type::OutputPath:
+      return "output path";
+    case Type::RealList:
+      return "list of reals";
+    case Type::StringList:
+      return "list of strings";
+    case Type::RealTable:
+      return "list of rows of reals";
   }
   return "?";
 }
