@@ -123,6 +123,7 @@ class Model final : public ModelBase {
   std::vector<BlockAcc> acc;
   bool energy_valid = false;  // acc[].ke/eb are from the last step
   double energy_budget0 = 0, energy_tiny = 0;
+  bool budget_dirty = false;  // velocities were set after initialise()
   bool contacts_on = false;
   double skin = 0, disp_bound = 0;
 
@@ -234,6 +235,7 @@ class Model final : public ModelBase {
     if (id[i] != ident) i = index_of_id()[ident];
     for (int a = 0; a < D; ++a) v[a][i] = vel[a];
     energy_valid = false;
+    budget_dirty = initialised;
   }
 
   void add_group_bits(const std::vector<std::uint32_t>& ids, std::uint32_t mask) override {
@@ -860,6 +862,7 @@ class Model final : public ModelBase {
           double fapp[3] = {0, 0, 0};
           if (bc.history >= 0)
             for (int a = 0; a < D; ++a) fapp[a] = c.hist[bc.history][a];
+          bc.w_ahead = 0;
           for (int a = 0; a < D; ++a) {
             bc.f_int[a] = F[a];
             const double vo = V[a][p];
@@ -876,7 +879,9 @@ class Model final : public ModelBase {
                 vn = (c.step + 1) % bc.every[a] == 0 ? bc.value[a] / dt : 0.0;
               // reaction work, trapezoid rule: -½·F(n)·(Δx(n-½) + Δx(n+½))
               const double dx = vn * dt;
-              work -= 0.5 * (F[a] + fapp[a] + c.g[a] / imass) * (bc.dx_prev[a] + dx);
+              const double fr = F[a] + fapp[a] + c.g[a] / imass;
+              work -= 0.5 * fr * (bc.dx_prev[a] + dx);
+              bc.w_ahead -= 0.5 * fr * dx;
               bc.dx_prev[a] = dx;
             }
             V[a][p] = vn;
@@ -903,7 +908,7 @@ class Model final : public ModelBase {
   void step_once(const Ctx& c) {
     const int nt = plan.nt;
     par::parallel_team(nt, [&](int t, int team) {
-      if (team != nt || getenv("DBG_SERIAL")) {  // fewer threads than planned: run the plan serially on thread 0
+      if (team != nt) {  // fewer threads than planned: run the plan serially on thread 0
         if (t == 0) {
           for (int s = 0; s < nt; ++s) phase_a<kEnergy>(s, c);
           for (int s = 0; s < nt; ++s) phase_b<DK, kEnergy>(s, c);
@@ -947,6 +952,10 @@ class Model final : public ModelBase {
     STRATA_CHECK(steps >= 0, Input, "run: steps = {} must be >= 0", steps);
     if (steps == 0) return;
     if (bcs_dirty) resolve_bcs();
+    if (budget_dirty) {  // initial conditions changed: the energy budget grows with them
+      energy_budget0 = std::max(energy_budget0, dry_kinetic() + dry_bond_energy());
+      budget_dirty = false;
+    }
     const int nt = par::threads();
     if (plan_dirty || plan.nt != std::min(nt, std::max(1, static_cast<int>((n() + kBlock - 1) / kBlock))))
       build_plan(nt);
@@ -1286,6 +1295,9 @@ class Model final : public ModelBase {
   double external_work() const override {
     double s = 0;
     for (const BlockAcc& A : acc) s += A.work;
+    // the energies are those of the last step's time level: leave out the half interval
+    // of reaction work already booked beyond it
+    for (const BcParticle& b : bcp) s -= b.w_ahead;
     const auto& g = settings.gravity;
     if (g[0] != 0 || g[1] != 0 || g[2] != 0) {  // gravity: Σ m g·(x - x0)
       s += par::parallel_sum<double>(static_cast<std::ptrdiff_t>(n()), [&](std::ptrdiff_t p) {

@@ -38,6 +38,7 @@ struct BcParticle {
   int history = -1;               // force history index
   double dx_prev[3]{};            // last step's displacement (trapezoid work)
   double f_int[3]{};              // last internal force
+  double w_ahead = 0;             // work booked for the half interval after the last step
 };
 
 struct BcSpec {

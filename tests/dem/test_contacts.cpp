@@ -16,19 +16,23 @@ void gas(int dim) {
   // equal the brute-force O(N²) set exactly.
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1, 1), ur(0.4e-3, 0.6e-3);
+  // soft contacts (Kn = 1e7 N/m) so a collision lasts many steps and probes see overlaps
   Material m = c1_material();
+  m.kn = 1e7;
+  m.ks = 4e6;
   Simulation sim(dim, Settings{.dt = 1e-12});
   const int mat = sim.add_material(m);
   const int n1 = dim == 2 ? 24 : 8;
   const double sp = 1.3e-3;
   for (int k = 0; k < (dim == 3 ? n1 : 1); ++k)
     for (int j = 0; j < n1; ++j)
-      for (int i = 0; i < n1; ++i) {
-        const std::size_t id = sim.add_particle({i * sp, j * sp, k * sp}, ur(rng), mat);
-        sim.set_velocity(id, {20 * u(rng), 20 * u(rng), dim == 3 ? 20 * u(rng) : 0});
-      }
+      for (int i = 0; i < n1; ++i) sim.add_particle({i * sp, j * sp, k * sp}, ur(rng), mat);
   sim.initialise();
   sim.set_dt(0.3 * sim.critical_dt());
+  // random velocities moving a particle up to 2e-5 m (~0.04 r) per step
+  const double vmax = 2e-5 / sim.dt();
+  for (std::size_t id = 0; id < sim.particle_count(); ++id)
+    sim.set_velocity(id, {vmax * u(rng), vmax * u(rng), dim == 3 ? vmax * u(rng) : 0});
   int total_touching = 0;
   for (int probe = 0; probe < 60; ++probe) {
     sim.run(37);
