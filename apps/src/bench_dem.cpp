@@ -64,8 +64,9 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   if (o.dim == 2)
     lat = preprocess::hex2d_box(0, 0, side, side, d);
   else
-    lat = preprocess::close_packed_box(o.lattice == "hcp" ? preprocess::Packing::HCP : preprocess::Packing::FCC,
-                                       {0, 0, 0}, {side, side, side}, d);
+    lat =
+        preprocess::close_packed_box(o.lattice == "hcp" ? preprocess::Packing::HCP : preprocess::Packing::FCC,
+                                     {0, 0, 0}, {side, side, side}, d);
   const auto top = preprocess::top_row(lat), bottom = preprocess::bottom_row(lat);
 
   dem::Simulation sim(o.dim, s);
@@ -96,11 +97,13 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   return fmt::format(
       "{{\"dim\": {}, \"lattice\": \"{}\", \"particles\": {}, \"bonds\": {}, \"steps\": {}, \"threads\": {}, "
       "\"seconds\": {:.6g}, \"particle_steps_per_s\": {:.6g}, \"bytes_per_particle\": {:.1f}, "
-      "\"model_bytes_per_particle\": {:.1f}, \"dt\": {:.6g}, \"dt_over_dt_crit\": {:.4g}, \"broken_bonds\": {}, "
+      "\"model_bytes_per_particle\": {:.1f}, \"dt\": {:.6g}, \"dt_over_dt_crit\": {:.4g}, \"broken_bonds\": "
+      "{}, "
       "\"contacts\": {}, \"setup_seconds\": {:.4g}}}",
       o.dim, o.dim == 2 ? "hex" : o.lattice, n, sim.bond_count(), o.steps, threads, secs,
-      nn * static_cast<double>(o.steps) / secs, (hwm - rss0) / nn, static_cast<double>(sim.memory_bytes()) / nn,
-      sim.dt(), sim.dt() / sim.critical_dt(), sim.broken_count(), sim.contact_count(), setup);
+      nn * static_cast<double>(o.steps) / secs, (hwm - rss0) / nn,
+      static_cast<double>(sim.memory_bytes()) / nn, sim.dt(), sim.dt() / sim.critical_dt(),
+      sim.broken_count(), sim.contact_count(), setup);
 }
 
 }  // namespace strata::app

@@ -22,42 +22,50 @@ namespace {
 
 std::string version_text() {
   std::string s = fmt::format("strata {}\noptional parts:", STRATA_VERSION);
-  for (const auto& f : config::kFeatures) s += fmt::format("\n  {:<20} {:<3} {}", f.option, f.enabled ? "on" : "off", f.what);
+  for (const auto& f : config::kFeatures)
+    s += fmt::format("\n  {:<20} {:<3} {}", f.option, f.enabled ? "on" : "off", f.what);
   return s;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"strata — bonded-particle DEM, FEM and coupled models of how rock breaks.\n"
-               "Scene files (TOML) describe the model; see docs/scene-reference.md.",
-               "strata"};
+  CLI::App app{
+      "strata — bonded-particle DEM, FEM and coupled models of how rock breaks.\n"
+      "Scene files (TOML) describe the model; see docs/scene-reference.md.",
+      "strata"};
   app.set_version_flag("--version", version_text());
   app.require_subcommand(1);
   app.fallthrough();
   bool verbose = false, quiet = false;
   app.add_flag("-v,--verbose", verbose, "More messages");
   app.add_flag("-q,--quiet", quiet, "Only warnings and errors");
-  app.footer("Examples:\n  strata check examples/01_uniaxial_compression/quick.toml\n"
-             "  strata run examples/01_uniaxial_compression/quick.toml -o out/quick\n"
-             "Run 'strata SUBCOMMAND --help' for each subcommand.");
+  app.footer(
+      "Examples:\n  strata check examples/01_uniaxial_compression/quick.toml\n"
+      "  strata run examples/01_uniaxial_compression/quick.toml -o out/quick\n"
+      "Run 'strata SUBCOMMAND --help' for each subcommand.");
 
   // ---- run ----
   SceneOptions opt;
-  auto* run = app.add_subcommand("run", "Run a scene: build the model, simulate, write series, probes and pictures");
+  auto* run =
+      app.add_subcommand("run", "Run a scene: build the model, simulate, write series, probes and pictures");
   run->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("-o,--output", opt.output, "Output directory (default: [output] directory of the scene)");
   run->add_option("--threads", opt.threads, "Threads for parallel loops (default: [solver] threads, 0 = all)")
       ->check(CLI::NonNegativeNumber);
-  run->add_option("--set", opt.overrides, "Override a scene key, validated like the file: KEY=VALUE (repeatable)")
+  run->add_option("--set", opt.overrides,
+                  "Override a scene key, validated like the file: KEY=VALUE (repeatable)")
       ->take_all();
-  run->add_flag("--force", opt.force, "Run even when dt exceeds the critical time step (results are unreliable)");
-  run->footer("Example:\n  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --threads 2 \\\n"
-              "      --set solver.steps=200000 --set output.frames=10");
+  run->add_flag("--force", opt.force,
+                "Run even when dt exceeds the critical time step (results are unreliable)");
+  run->footer(
+      "Example:\n  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --threads 2 \\\n"
+      "      --set solver.steps=200000 --set output.frames=10");
 
   // ---- check ----
   bool check_json = false;
-  auto* check = app.add_subcommand("check", "Validate a scene and print what would be built and the derived numbers");
+  auto* check =
+      app.add_subcommand("check", "Validate a scene and print what would be built and the derived numbers");
   check->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   check->add_option("--set", opt.overrides, "Override a scene key: KEY=VALUE (repeatable)")->take_all();
   check->add_flag("--json", check_json, "Print one JSON object instead of text");
@@ -65,7 +73,8 @@ int main(int argc, char** argv) {
 
   // ---- mesh ----
   bool mesh_json = false;
-  auto* mesh = app.add_subcommand("mesh", "Build the model only and report counts, packing density and time taken");
+  auto* mesh =
+      app.add_subcommand("mesh", "Build the model only and report counts, packing density and time taken");
   mesh->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   mesh->add_option("-o,--output", opt.output, "Directory for the model files (default: none written)");
   mesh->add_option("--set", opt.overrides, "Override a scene key: KEY=VALUE (repeatable)")->take_all();
@@ -77,8 +86,10 @@ int main(int argc, char** argv) {
   bench->require_subcommand(1);
   BenchDemOptions bopt;
   auto* bdem = bench->add_subcommand("dem", "DEM stepping rate of a lattice block under slow compression");
-  bdem->add_option("--dim", bopt.dim, "2 (hexagonal disks) or 3 (close-packed spheres)")->check(CLI::IsMember({2, 3}));
-  bdem->add_option("--particles", bopt.particles, "Approximate number of particles")->check(CLI::PositiveNumber);
+  bdem->add_option("--dim", bopt.dim, "2 (hexagonal disks) or 3 (close-packed spheres)")
+      ->check(CLI::IsMember({2, 3}));
+  bdem->add_option("--particles", bopt.particles, "Approximate number of particles")
+      ->check(CLI::PositiveNumber);
   bdem->add_option("--steps", bopt.steps, "Time steps to time")->check(CLI::PositiveNumber);
   bdem->add_option("--threads", bopt.threads, "Threads (0 = all)")->check(CLI::NonNegativeNumber);
   bdem->add_option("--lattice", bopt.lattice, "3D lattice: hcp or fcc")->check(CLI::IsMember({"hcp", "fcc"}));
@@ -86,7 +97,8 @@ int main(int argc, char** argv) {
 
   // ---- render ----
   RenderOptions ropt;
-  auto* render = app.add_subcommand("render", "Draw every frame of a series to PNG (starts Xvfb when there is no display)");
+  auto* render = app.add_subcommand(
+      "render", "Draw every frame of a series to PNG (starts Xvfb when there is no display)");
   render->add_option("series", ropt.series, "Particle series (.pvd) written by 'strata run'")
       ->required()
       ->check(CLI::ExistingFile);
@@ -98,7 +110,8 @@ int main(int argc, char** argv) {
 
   // ---- reference ----
   std::string ref_out;
-  auto* reference = app.add_subcommand("reference", "Print the scene-file reference (docs/scene-reference.md)");
+  auto* reference =
+      app.add_subcommand("reference", "Print the scene-file reference (docs/scene-reference.md)");
   reference->add_option("-o,--output", ref_out, "Write to this file instead of standard output");
   reference->footer("Example:\n  strata reference -o docs/scene-reference.md");
 

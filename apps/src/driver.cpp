@@ -94,7 +94,8 @@ json model_json(const BuiltModel& m, const scene::Scene& sc) {
 
 void print_model(const json& j) {
   std::printf("scene        %s\n", j["scene"].get<std::string>().c_str());
-  if (!j["title"].get<std::string>().empty()) std::printf("title        %s\n", j["title"].get<std::string>().c_str());
+  if (!j["title"].get<std::string>().empty())
+    std::printf("title        %s\n", j["title"].get<std::string>().c_str());
   std::printf("dimension    %dD\n", j["dimension"].get<int>());
   for (const auto& r : j["regions"])
     std::printf("region       %-14s %s lattice, d = %g m: %zu particles, packing density %.4f\n",
@@ -104,8 +105,8 @@ void print_model(const json& j) {
   for (const auto& [name, n] : j["groups"].items())
     std::printf("group        %-14s %zu particles\n", name.c_str(), n.get<std::size_t>());
   std::printf("particles    %zu\nbonds        %zu\nFEM          %zu nodes, %zu elements\n",
-              j["particles"].get<std::size_t>(), j["bonds"].get<std::size_t>(), j["fem_nodes"].get<std::size_t>(),
-              j["fem_elements"].get<std::size_t>());
+              j["particles"].get<std::size_t>(), j["bonds"].get<std::size_t>(),
+              j["fem_nodes"].get<std::size_t>(), j["fem_elements"].get<std::size_t>());
   std::printf("memory       %.1f MB (model arrays)\n", j["memory_bytes"].get<double>() / 1e6);
   std::printf("dt_crit      %.4g s\n", j["dt_crit_s"].get<double>());
   std::printf("dt           %.4g s%s  (dt/dt_crit = %.3f)\n", j["dt_s"].get<double>(),
@@ -234,7 +235,8 @@ class RunOutput {
       if (style.field == "damage") style.field_label = "damage";
       const auto pngs = io::render_series(particles_.pvd_path(), dir_ / "png", style, bonds_.pvd_path());
       if (!pngs.empty()) written_.push_back(dir_ / "png" / "");
-      if (out_.boolean("movie") && io::make_movie(dir_ / "png", dir_ / "movie.mp4")) written_.push_back(dir_ / "movie.mp4");
+      if (out_.boolean("movie") && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
+        written_.push_back(dir_ / "movie.mp4");
     }
 #else
     (void)sc;
@@ -349,9 +351,10 @@ int run_scene(const SceneOptions& opt) {
     const fs::path last = out.keep_frames_until((double(good) + 0.5) * m.dt);
     out.finish(m, model, seconds_since(t0), fmt::format("failed: {}", e.what()));
     const std::string kept = last.empty() ? std::string("no good frame had been written")
-                                          : fmt::format("last good frame kept: {} (the state at step {} passed "
-                                                        "the health check)",
-                                                        last.string(), good);
+                                          : fmt::format(
+                                                "last good frame kept: {} (the state at step {} passed "
+                                                "the health check)",
+                                                last.string(), good);
     fail(ErrorKind::Numerical, "{}\nrun stopped; {}; probes up to the failure in {}", e.what(), kept,
          (dir / "probes.csv").string());
   }

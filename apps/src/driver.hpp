@@ -9,10 +9,10 @@ namespace strata::app {
 /// What `strata run/check/mesh` were asked to do.
 struct SceneOptions {
   std::filesystem::path scene;
-  std::filesystem::path output;         ///< empty: the scene's [output] directory
-  int threads = -1;                     ///< -1: the scene's [solver] threads
-  std::vector<std::string> overrides;   ///< --set KEY=VALUE
-  bool force = false;                   ///< run even when dt > dt_crit
+  std::filesystem::path output;        ///< empty: the scene's [output] directory
+  int threads = -1;                    ///< -1: the scene's [solver] threads
+  std::vector<std::string> overrides;  ///< --set KEY=VALUE
+  bool force = false;                  ///< run even when dt > dt_crit
 };
 
 /// `strata run`: returns the exit status; throws strata::Error on bad input or a failed run.

@@ -32,7 +32,8 @@ io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std:
     const auto ids = sim.ids();
     pc.point_data.push_back({"id", 1, {ids.begin(), ids.end()}, io::ArrayType::Int64});
   }
-  if (wants(fields, "displacement")) pc.point_data.push_back(vector_array("displacement", sim.displacements()));
+  if (wants(fields, "displacement"))
+    pc.point_data.push_back(vector_array("displacement", sim.displacements()));
   if (wants(fields, "velocity")) pc.point_data.push_back(vector_array("velocity", sim.velocities()));
   if (wants(fields, "group")) {
     const auto g = sim.group_bits();
@@ -53,7 +54,7 @@ io::LineSet broken_bond_frame(const dem::Simulation& sim) {
     if (b.kind == dem::PairKind::Intact) continue;
     ls.ends.push_back(b.i);
     ls.ends.push_back(b.j);
-    const io::BondState s = b.reclosed ? io::BondState::Closed
+    const io::BondState s = b.reclosed                               ? io::BondState::Closed
                             : b.kind == dem::PairKind::BrokenTension ? io::BondState::BrokenTension
                                                                      : io::BondState::BrokenShear;
     state.values.push_back(double(int(s)));

@@ -55,7 +55,7 @@ Shape shape_of(const scene::Table& r, int dim) {
 preprocess::LatticeKind lattice_of(const scene::Table& r, int dim, std::string& name) {
   name = r.str("lattice");
   if (name == "auto") name = dim == 2 ? "hex" : "hcp";
-  return name == "hex" ? preprocess::LatticeKind::Hex2D
+  return name == "hex"   ? preprocess::LatticeKind::Hex2D
          : name == "hcp" ? preprocess::LatticeKind::HCP
                          : preprocess::LatticeKind::FCC;
 }
@@ -102,8 +102,9 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   for (const auto& t : sc.tables("material"))
     breakable |= std::isfinite(t.real("tensile_strength")) || std::isfinite(t.real("shear_strength"));
   const std::string& cd = solver.str("contact_detection");
-  set.contact_detection = cd == "on" || (cd == "auto" && (breakable || sc.tables("region").size() > 1 ||
-                                                          !sc.tables("wall").empty()));
+  set.contact_detection =
+      cd == "on" ||
+      (cd == "auto" && (breakable || sc.tables("region").size() > 1 || !sc.tables("wall").empty()));
 
   BuiltModel m{dim, dem::Simulation(dim, set)};
   dem::Simulation& sim = m.sim;
@@ -205,8 +206,8 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     auto n = vec3(w.reals("normal"));
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);  // > 0: checked by the loader
     for (double& c : n) c /= len;
-    sim.add_wall(vec3(w.reals("point")), n, w.has("velocity") ? vec3(w.reals("velocity")) : std::array<double, 3>{},
-                 k);
+    sim.add_wall(vec3(w.reals("point")), n,
+                 w.has("velocity") ? vec3(w.reals("velocity")) : std::array<double, 3>{}, k);
   }
 
   // Time step: automatic (dt_safety × dt_crit) or checked against dt_crit.
@@ -219,13 +220,15 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   } else if (solver.real("dt") > m.dt_crit) {
     const double dt = solver.real("dt");
     if (!(force || solver.boolean("allow_unstable")))
-      solver.fail("dt", fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
-                                    "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
-                                    "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
-                                    dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
-    log::warn("dt = {:.4g} s exceeds the critical time step {:.4g} s (dt/dt_crit = {:.3f}): running anyway as "
-              "asked; results are not reliable",
-              dt, m.dt_crit, dt / m.dt_crit);
+      solver.fail("dt",
+                  fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
+                              "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
+                              "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
+                              dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
+    log::warn(
+        "dt = {:.4g} s exceeds the critical time step {:.4g} s (dt/dt_crit = {:.3f}): running anyway as "
+        "asked; results are not reliable",
+        dt, m.dt_crit, dt / m.dt_crit);
   }
   m.dt = sim.dt();
   const std::int64_t steps = solver.integer("steps");

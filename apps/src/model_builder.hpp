@@ -14,11 +14,11 @@ namespace strata::app {
 /// One particle region as built.
 struct RegionInfo {
   std::string name;
-  std::string lattice;      ///< "hex", "hcp" or "fcc"
+  std::string lattice;  ///< "hex", "hcp" or "fcc"
   std::size_t particles = 0;
   double diameter = 0;
-  double measure = 0;       ///< area (2D) or volume (3D) of the shape
-  double packing = 0;       ///< particle area/volume over the shape's
+  double measure = 0;  ///< area (2D) or volume (3D) of the shape
+  double packing = 0;  ///< particle area/volume over the shape's
 };
 
 /// Axial stress and strain between two platen groups (SPEC C1): compression positive.

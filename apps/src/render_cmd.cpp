@@ -21,7 +21,8 @@ int render_series_cmd(const RenderOptions& opt) {
   if (!std::filesystem::exists(bonds)) bonds.clear();
   const auto pngs = io::render_series(opt.series, dir, style, bonds);
   std::printf("wrote %zu pictures in %s\n", pngs.size(), dir.string().c_str());
-  if (!opt.no_movie && io::make_movie(dir, dir / "movie.mp4")) std::printf("wrote %s\n", (dir / "movie.mp4").string().c_str());
+  if (!opt.no_movie && io::make_movie(dir, dir / "movie.mp4"))
+    std::printf("wrote %s\n", (dir / "movie.mp4").string().c_str());
   return 0;
 #else
   (void)opt;

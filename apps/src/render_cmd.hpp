@@ -7,9 +7,9 @@
 namespace strata::app {
 
 struct RenderOptions {
-  std::filesystem::path series;   ///< particles .pvd
-  std::filesystem::path output;   ///< PNG directory; empty: <series dir>/png
-  std::string field = "damage";   ///< point array used for colour
+  std::filesystem::path series;  ///< particles .pvd
+  std::filesystem::path output;  ///< PNG directory; empty: <series dir>/png
+  std::string field = "damage";  ///< point array used for colour
   std::vector<int> size{1600, 1200};
   bool no_movie = false;
 };

@@ -17,10 +17,18 @@ spdlog::logger& get() {
 void init(Level level) {
   auto& l = get();
   switch (level) {
-    case Level::Quiet: l.set_level(spdlog::level::warn); break;
-    case Level::Normal: l.set_level(spdlog::level::info); break;
-    case Level::Verbose: l.set_level(spdlog::level::debug); break;
-    case Level::Debug: l.set_level(spdlog::level::trace); break;
+    case Level::Quiet:
+      l.set_level(spdlog::level::warn);
+      break;
+    case Level::Normal:
+      l.set_level(spdlog::level::info);
+      break;
+    case Level::Verbose:
+      l.set_level(spdlog::level::debug);
+      break;
+    case Level::Debug:
+      l.set_level(spdlog::level::trace);
+      break;
   }
 }
 }  // namespace strata::log

@@ -17,8 +17,12 @@ std::string format_duration(double s) {
 }
 
 Progress::Progress(std::string label, std::int64_t total, std::string unit, double interval_s)
-    : label_(std::move(label)), unit_(std::move(unit)), total_(std::max<std::int64_t>(total, 1)),
-      interval_s_(interval_s), tty_(isatty(fileno(stderr)) != 0), start_(std::chrono::steady_clock::now()) {
+    : label_(std::move(label)),
+      unit_(std::move(unit)),
+      total_(std::max<std::int64_t>(total, 1)),
+      interval_s_(interval_s),
+      tty_(isatty(fileno(stderr)) != 0),
+      start_(std::chrono::steady_clock::now()) {
   if (tty_) interval_s_ = 0.25;
 }
 

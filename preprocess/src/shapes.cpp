@@ -74,9 +74,12 @@ Bounds Shape::bounds() const {
 double Shape::measure() const {
   const double depth = dim == 3 ? z_max - z_min : 1.0;
   switch (kind) {
-    case Kind::Box: return dim == 3 ? size[0] * size[1] * size[2] : size[0] * size[1];
-    case Kind::Disk: return M_PI * radius * radius * depth;
-    case Kind::Sphere: return dim == 3 ? 4.0 / 3.0 * M_PI * radius * radius * radius : M_PI * radius * radius;
+    case Kind::Box:
+      return dim == 3 ? size[0] * size[1] * size[2] : size[0] * size[1];
+    case Kind::Disk:
+      return M_PI * radius * radius * depth;
+    case Kind::Sphere:
+      return dim == 3 ? 4.0 / 3.0 * M_PI * radius * radius * radius : M_PI * radius * radius;
     case Kind::Polygon: {
       double a = 0;  // shoelace formula
       for (std::size_t i = 0, j = polygon.size() - 1; i < polygon.size(); j = i++)

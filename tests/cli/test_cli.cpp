@@ -33,8 +33,8 @@ Result strata(const std::string& args) {
 
 /// A fresh directory for one test.
 fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() /
-                     ("strata_cli_" + name + "_" + std::to_string(std::random_device{}()));
+  const fs::path d =
+      fs::temp_directory_path() / ("strata_cli_" + name + "_" + std::to_string(std::random_device{}()));
   fs::create_directories(d);
   return d;
 }
@@ -117,7 +117,8 @@ TEST(Cli, FourBadScenesGiveFourPreciseMessages) {
   negative.replace(negative.find("kn = 6.587e10"), 13, "kn = -6.587e10");
   std::string wrong_type = small_scene("dt = \"fast\"\n");
   std::string missing_file = small_scene();
-  missing_file.replace(missing_file.find("size = [0.010, 0.0105]"), 22, "shape = \"file\"\nfile = \"nowhere.geo\"");
+  missing_file.replace(missing_file.find("size = [0.010, 0.0105]"), 22,
+                       "shape = \"file\"\nfile = \"nowhere.geo\"");
 
   const std::array<std::pair<std::string, std::string>, 4> cases{{
       {misspelt, "fricton"},

@@ -1,8 +1,8 @@
 // Runs each example's quick scene end to end with the `strata` command and checks what it
 // wrote: the series, pictures, and for the uniaxial compression example the physics.
 #include <gtest/gtest.h>
-#include <strata/io/csv.hpp>
 #include <sys/wait.h>
+#include <strata/io/csv.hpp>
 
 #include <cmath>
 #include <cstdlib>
@@ -57,7 +57,10 @@ TEST(Examples, UniaxialCompressionQuick) {
   const fs::path out = kOut / "01_uniaxial_compression";
   fs::remove_all(out);
   std::string log;
-  ASSERT_EQ(run("run " + (kExamples / "01_uniaxial_compression" / "quick.toml").string() + " -o " + out.string(), &log), 0)
+  ASSERT_EQ(
+      run("run " + (kExamples / "01_uniaxial_compression" / "quick.toml").string() + " -o " + out.string(),
+          &log),
+      0)
       << log;
   for (const char* f : {"particles.pvd", "bonds.pvd", "probes.csv", "breaks.csv", "summary.json",
                         "stress_strain.png", "png/frame_000000.png"})

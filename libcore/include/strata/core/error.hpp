@@ -52,9 +52,9 @@ namespace detail {
 }  // namespace strata
 
 /// Always-on check: throws strata::Error(kind, message) when `cond` is false.
-#define STRATA_CHECK(cond, kind, ...)                   \
-  do {                                                  \
-    if (!(cond)) [[unlikely]]                           \
+#define STRATA_CHECK(cond, kind, ...)                         \
+  do {                                                        \
+    if (!(cond)) [[unlikely]]                                 \
       ::strata::fail(::strata::ErrorKind::kind, __VA_ARGS__); \
   } while (0)
 
@@ -62,9 +62,9 @@ namespace detail {
 #ifdef NDEBUG
 #define STRATA_ASSERT(cond, ...) ((void)0)
 #else
-#define STRATA_ASSERT(cond, ...)                                                              \
-  do {                                                                                        \
-    if (!(cond)) [[unlikely]]                                                                 \
+#define STRATA_ASSERT(cond, ...)                                                                 \
+  do {                                                                                           \
+    if (!(cond)) [[unlikely]]                                                                    \
       ::strata::detail::assert_failed(#cond, __FILE__, __LINE__, ::fmt::format("" __VA_ARGS__)); \
   } while (0)
 #endif

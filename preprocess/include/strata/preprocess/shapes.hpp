@@ -18,11 +18,11 @@ struct Shape {
   enum class Kind { Box, Disk, Sphere, Polygon };
   Kind kind = Kind::Box;
   int dim = 2;
-  Vec3 origin{0, 0, 0}, size{0, 0, 0};          ///< Box: lower corner and extent
-  Vec3 center{0, 0, 0};                         ///< Disk, Sphere
-  double radius = 0;                            ///< Disk (a cylinder along z in 3D), Sphere
-  double z_min = 0, z_max = 0;                  ///< Disk in 3D: extent along z
-  std::vector<std::array<double, 2>> polygon;   ///< Polygon vertices (2D; a prism along z in 3D)
+  Vec3 origin{0, 0, 0}, size{0, 0, 0};         ///< Box: lower corner and extent
+  Vec3 center{0, 0, 0};                        ///< Disk, Sphere
+  double radius = 0;                           ///< Disk (a cylinder along z in 3D), Sphere
+  double z_min = 0, z_max = 0;                 ///< Disk in 3D: extent along z
+  std::vector<std::array<double, 2>> polygon;  ///< Polygon vertices (2D; a prism along z in 3D)
 
   /// Whether a ball of radius `r` centred at `p` lies entirely inside the shape.
   bool contains(const Vec3& p, double r) const;
