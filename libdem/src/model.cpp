@@ -625,10 +625,17 @@ class Model final : public ModelBase {
   // Thread plan: contiguous ranges of whole blocks; pairs whose partner lies in a later
   // thread's range ("cross pairs") are computed first (phase A), stored in slots, and
   // gathered by both ends in the same order as in a one-thread run.
+  int effective_threads(int nt) const {
+    const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((n() + kBlock - 1) / kBlock);
+    const std::ptrdiff_t by_size =
+        static_cast<std::ptrdiff_t>(n()) / std::max(1, settings.min_particles_per_thread);
+    return static_cast<int>(std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>({nt, nb, std::max<std::ptrdiff_t>(by_size, 1)})));
+  }
+
   void build_plan(int nt) {
     const std::size_t N = n();
     const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((N + kBlock - 1) / kBlock);
-    nt = std::max(1, std::min<int>(nt, static_cast<int>(std::max<std::ptrdiff_t>(nb, 1))));
+    nt = effective_threads(nt);
     plan = Plan{};
     plan.nt = nt;
     plan.begin.resize(nt + 1);
@@ -957,8 +964,7 @@ class Model final : public ModelBase {
       budget_dirty = false;
     }
     const int nt = par::threads();
-    if (plan_dirty || plan.nt != std::min(nt, std::max(1, static_cast<int>((n() + kBlock - 1) / kBlock))))
-      build_plan(nt);
+    if (plan_dirty || plan.nt != effective_threads(nt)) build_plan(nt);
     Ctx c;
     c.dt = settings.dt;
     for (int a = 0; a < 3; ++a) c.g[a] = settings.gravity[a];

@@ -25,7 +25,7 @@ Outcome run(int dim, int threads) {
                                      : preprocess::close_packed_box(preprocess::Packing::FCC, {0, 0, 0},
                                                                     {12e-3, 12e-3, 12e-3}, kC1d);
   Simulation sim(dim, Settings{.dt = 1e-12, .damping = Settings::Damping::Viscous, .viscous_c = 1.16e3,
-                               .energy_check_every = 100});
+                               .energy_check_every = 100, .min_particles_per_thread = 1});
   add_lattice(sim, lat, sim.add_material(c1_material()));
   sim.add_to_group(preprocess::top_row(lat), "top");
   sim.add_to_group(preprocess::bottom_row(lat), "bottom");

@@ -66,6 +66,9 @@ struct Settings {
   bool contact_detection = true;    ///< search for new contacts between unbonded particles
   int energy_check_every = 1000;    ///< blow-up check cadence in steps (<= 0: never)
   double skin = 0;                  ///< Verlet skin (m); 0: half the largest radius
+  /// Threads are used only with at least this many particles each (smaller models run on
+  /// fewer threads; results do not depend on it). Tests lower it to exercise threading.
+  int min_particles_per_thread = 4096;
 };
 
 /// A bond or contact as seen by writers.
