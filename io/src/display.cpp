@@ -205,6 +205,9 @@ std::string ensure_display() {
   log::debug("started Xvfb (pid {}) on DISPLAY={}", g_server.pid, g_server.display);
   STRATA_CHECK(display_usable(), IO, "Xvfb started on {} but it does not accept connections; its output:\n{}",
                g_server.display, tail_of(g_server.log_file));
+  // Xvfb keeps its (now nameless) log open; nothing is left in /tmp if we are killed.
+  ::unlink(g_server.log_file.c_str());
+  g_server.log_file.clear();
   return g_server.display;
 }
 

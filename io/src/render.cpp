@@ -478,7 +478,7 @@ void render_frame(const RenderRequest& rq) {
   top->SetLayer(2);
   for (auto* r : {scene.Get(), halo_layer.Get(), top.Get()}) win->AddRenderer(r);
   scene->AddActor(particles);
-  // scene->UseFXAAOn();
+  scene->UseFXAAOn();
 
   // Model area: left part of the window, leaving the right strip for colour bar and legend.
   const double mx0 = 0.03, mx1 = coloured || rq.bonds ? 0.77 : 0.97, my0 = 0.05, my1 = 0.87;
