@@ -15,6 +15,7 @@
 #include "bench_dem.hpp"
 #include "driver.hpp"
 #include "render_cmd.hpp"
+#include "report.hpp"
 #include "scene/scene.hpp"
 
 namespace strata::app {
@@ -108,6 +109,34 @@ int main(int argc, char** argv) {
   render->add_flag("--no-movie", ropt.no_movie, "Do not write an MP4 even when ffmpeg is installed");
   render->footer("Example:\n  strata render out/c1/particles.pvd -o out/c1/png --field damage");
 
+  // ---- report ----
+  ReportOptions rep;
+  auto* report = app.add_subcommand(
+      "report", "Error against run time of the coupled chain cases (SPEC C3) over eta: CSV, Markdown, PNG");
+  report->add_option("case", rep.case_name, "chain6 or metamaterial")
+      ->required()
+      ->check(CLI::IsMember({"chain6", "metamaterial"}));
+  report->add_option("-o,--output", rep.output, "Directory for <case>_sweep.{csv,md,png}");
+  report->add_option("--eta", rep.etas, "Time-step ratios (integers >= 1)")->check(CLI::PositiveNumber);
+  report->add_option("--modes", rep.modes, "serial, parallel or both")
+      ->check(CLI::IsMember({"serial", "parallel", "both"}));
+  report->add_option("--dt-dem", rep.dt_dem, "DEM step (s); default 1e-4 (chain6), 5e-5 (metamaterial)")
+      ->check(CLI::NonNegativeNumber);
+  report->add_option("--duration", rep.duration, "Simulated time (s); default 20 (chain6), 0.075 (metamaterial)")
+      ->check(CLI::NonNegativeNumber);
+  report->add_option("--fem-scheme", rep.fem_scheme, "central-difference, explicit-newmark or implicit-newmark")
+      ->check(CLI::IsMember({"central-difference", "explicit-newmark", "pc-newmark", "implicit-newmark"}));
+  report->add_option("--dt-ref", rep.dt_ref, "Reference step of the metamaterial case (s)")
+      ->check(CLI::PositiveNumber);
+  report->add_option("--pulse", rep.pulse_amplitude, "Metamaterial half-sine pulse amplitude (N)");
+  report->add_option("--pulse-duration", rep.pulse_duration, "Metamaterial pulse duration (s)")
+      ->check(CLI::PositiveNumber);
+  report->add_option("--repeats", rep.repeats, "Runs per point; the fastest is reported")->check(CLI::PositiveNumber);
+  report->add_flag("--check", rep.check_only, "Only check the time step (exit 2 when unstable)");
+  report->add_flag("--no-plot", rep.no_plot, "Do not write the PNG plot");
+  report->footer(
+      "Examples:\n  strata report chain6 -o out/chain6\n  strata report metamaterial --dt-dem 1e-4 --check");
+
   // ---- reference ----
   std::string ref_out;
   auto* reference =
@@ -132,6 +161,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*render) return render_series_cmd(ropt);
+    if (*report) return report_cmd(rep);
     if (*reference) {
       const std::string md = scene::reference_markdown();
       if (ref_out.empty()) {

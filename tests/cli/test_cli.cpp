@@ -206,3 +206,23 @@ TEST(Cli, BlowUpStopsTheRunAndKeepsTheLastGoodFrame) {
   EXPECT_TRUE(fs::exists(d / "res" / "particles.pvd"));
   fs::remove_all(d);
 }
+
+// SPEC C3: the paper's dt_DEM = 1e-4 s is unstable for the metamaterial chain; strata says
+// so before running and names the stable limits.
+TEST(Cli, ReportRefusesThePapersUnstableStep) {
+  const auto bad = strata("report metamaterial --dt-dem 1e-4 --check");
+  EXPECT_EQ(bad.status, 2) << bad.output;
+  EXPECT_NE(bad.output.find("7.68e-05 s for the whole chain"), std::string::npos) << bad.output;
+  EXPECT_NE(bad.output.find("8.01e-05 s for the DEM partition alone"), std::string::npos) << bad.output;
+  EXPECT_EQ(strata("report metamaterial --dt-dem 5e-5 --check").status, 0);
+  EXPECT_EQ(strata("report chain6 --eta 0").status, 2);
+}
+
+TEST(Cli, ReportWritesTheSweepTables) {
+  const fs::path d = temp_dir("report");
+  const auto r = strata("report chain6 --eta 1 --eta 20 --modes serial --duration 2 --no-plot -o " + d.string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(d / "chain6_sweep.csv"));
+  EXPECT_TRUE(fs::exists(d / "chain6_sweep.md"));
+  fs::remove_all(d);
+}

@@ -1,0 +1,221 @@
+#include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
+#include <strata/couple/coupler.hpp>
+
+#include <atomic>
+#include <barrier>
+#include <cmath>
+#include <exception>
+#include <thread>
+#include <unordered_map>
+
+namespace strata::couple {
+
+std::string to_string(Execution e) { return e == Execution::Serial ? "serial" : "parallel"; }
+
+Overlap make_overlap(const std::vector<std::int64_t>& fem_ids, const std::vector<Role>& fem_roles,
+                     const std::vector<std::int64_t>& dem_ids, const std::vector<Role>& dem_roles) {
+  STRATA_CHECK(fem_ids.size() == fem_roles.size() && dem_ids.size() == dem_roles.size(), Input,
+               "overlap: ids and roles differ in length");
+  std::unordered_map<std::int64_t, std::size_t> dem_of;
+  for (std::size_t d = 0; d < dem_ids.size(); ++d) dem_of[dem_ids[d]] = d;
+  Overlap o;
+  std::size_t dem_b = 0, dem_e = 0;
+  for (Role r : dem_roles) {
+    dem_b += r == Role::Boundary;
+    dem_e += r == Role::External;
+  }
+  for (std::size_t f = 0; f < fem_ids.size(); ++f) {
+    if (fem_roles[f] == Role::Internal) continue;
+    const auto it = dem_of.find(fem_ids[f]);
+    STRATA_CHECK(it != dem_of.end(), Input, "overlap: FEM {} node {} has no coincident DEM particle",
+                 fem_roles[f] == Role::Boundary ? "boundary" : "external", fem_ids[f]);
+    const Role want = fem_roles[f] == Role::Boundary ? Role::External : Role::Boundary;
+    STRATA_CHECK(dem_roles[it->second] == want, Input,
+                 "overlap: FEM {} node {} coincides with a DEM particle that is not {} (SPEC C3: FEM B + E = DEM E + B)",
+                 fem_roles[f] == Role::Boundary ? "boundary" : "external", fem_ids[f],
+                 want == Role::External ? "external" : "boundary");
+    (fem_roles[f] == Role::Boundary ? o.fem_to_dem : o.dem_to_fem)
+        .push_back(fem_roles[f] == Role::Boundary ? Link{f, it->second} : Link{it->second, f});
+  }
+  STRATA_CHECK(o.fem_to_dem.size() == dem_e && o.dem_to_fem.size() == dem_b, Input,
+               "overlap: {} DEM external and {} DEM boundary particles, but {} FEM boundary and {} FEM external nodes",
+               dem_e, dem_b, o.fem_to_dem.size(), o.dem_to_fem.size());
+  STRATA_CHECK(!o.fem_to_dem.empty() && !o.dem_to_fem.empty(), Input, "overlap: empty (no boundary layer)");
+  return o;
+}
+
+std::string CoupledStability::text() const {
+  std::string s = fmt::format(
+      "coupled step: dt_DEM = {:.4g} s, eta = {}, dt_FEM = {:.4g} s\n"
+      "  DEM partition limit {:.4g} s (ratio {:.3f})\n"
+      "  FEM partition explicit limit {:.4g} s (ratio {:.3f}); integrator {}{}",
+      dt_dem, eta, dt_fem, dem_dt_crit, dt_dem / dem_dt_crit, fem_explicit_dt_crit, dt_fem / fem_explicit_dt_crit,
+      fem_integrator, std::isinf(fem_dt_crit) ? " (unconditionally stable)" : "");
+  for (const auto& n : notes) s += "\n  note: " + n;
+  for (const auto& p : problems) s += "\n  UNSTABLE: " + p;
+  return s;
+}
+
+CoupledStability coupled_stability(const Partition& fem, const Partition& dem, int eta) {
+  CoupledStability c;
+  c.eta = eta;
+  c.dt_dem = dem.dt();
+  c.dt_fem = fem.dt();
+  c.dem_dt_crit = dem.critical_dt();
+  c.fem_explicit_dt_crit = fem.explicit_critical_dt();
+  c.fem_dt_crit = fem.critical_dt();
+  c.fem_integrator = fem.integrator();
+  if (c.dt_dem > c.dem_dt_crit)
+    c.problems.push_back(fmt::format("dt_DEM = {:.4g} s exceeds the {} partition's critical step {:.4g} s ({})",
+                                     c.dt_dem, dem.name(), c.dem_dt_crit, dem.integrator()));
+  if (c.dt_fem > c.fem_explicit_dt_crit) {
+    if (fem.is_explicit())
+      c.problems.push_back(fmt::format(
+          "eta*dt_DEM = {} x {:.4g} s = {:.4g} s exceeds the {} partition's explicit limit {:.4g} s ({}); at this eta "
+          "only the implicit Newmark (beta = 1/4, gamma = 1/2) is allowed, or lower eta to <= {}",
+          eta, c.dt_dem, c.dt_fem, fem.name(), c.fem_explicit_dt_crit, fem.integrator(),
+          static_cast<int>(std::floor(c.fem_explicit_dt_crit / c.dt_dem))));
+    else
+      c.notes.push_back(fmt::format(
+          "eta*dt_DEM = {:.4g} s exceeds the {} partition's explicit limit {:.4g} s: only the implicit Newmark is "
+          "allowed here (in use: {})",
+          c.dt_fem, fem.name(), c.fem_explicit_dt_crit, fem.integrator()));
+  }
+  if (c.dt_fem > c.fem_dt_crit && !fem.is_explicit())
+    c.problems.push_back(fmt::format("dt_FEM = {:.4g} s exceeds the {} integrator's limit {:.4g} s", c.dt_fem,
+                                     fem.integrator(), c.fem_dt_crit));
+  c.ok = c.problems.empty();
+  return c;
+}
+
+Coupler::Coupler(Partition& fem, Partition& dem, Overlap overlap, int eta, Execution mode)
+    : fem_(fem), dem_(dem), overlap_(std::move(overlap)), eta_(eta), mode_(mode) {
+  STRATA_CHECK(eta >= 1, Input, "eta = {} must be an integer >= 1", eta);
+  STRATA_CHECK(std::abs(fem.dt() - eta * dem.dt()) <= 1e-12 * fem.dt(), Input,
+               "dt_FEM = {:.6g} s must equal eta*dt_DEM = {} x {:.6g} s", fem.dt(), eta, dem.dt());
+  for (const Link& l : overlap_.fem_to_dem) dem_.make_external(l.to);
+  for (const Link& l : overlap_.dem_to_fem) fem_.make_external(l.to);
+}
+
+void Coupler::probe_fem(std::size_t dof, std::string name) {
+  fem_probe_dofs_.push_back(dof);
+  fem_hist_.push_back({std::move(name), {}, {}});
+}
+void Coupler::probe_dem(std::size_t dof, std::string name) {
+  dem_probe_dofs_.push_back(dof);
+  dem_hist_.push_back({std::move(name), {}, {}});
+}
+
+void Coupler::record_fem() {
+  for (std::size_t k = 0; k < fem_probe_dofs_.size(); ++k) {
+    fem_hist_[k].t.push_back(fem_.time());
+    fem_hist_[k].u.push_back(fem_.displacement(fem_probe_dofs_[k]));
+  }
+}
+void Coupler::record_dem() {
+  for (std::size_t k = 0; k < dem_probe_dofs_.size(); ++k) {
+    dem_hist_[k].t.push_back(dem_.time());
+    dem_hist_[k].u.push_back(dem_.displacement(dem_probe_dofs_[k]));
+  }
+}
+
+void Coupler::initialise(bool allow_unstable) {
+  stab_ = coupled_stability(fem_, dem_, eta_);
+  if (!stab_.ok) {
+    if (!allow_unstable) fail(ErrorKind::Input, "{}", stab_.text());
+    log::warn("{}\nrunning anyway as asked", stab_.text());
+  }
+  for (const Link& l : overlap_.fem_to_dem) dem_.set_external(l.to, fem_.displacement(l.from), fem_.velocity(l.from));
+  for (const Link& l : overlap_.dem_to_fem) fem_.set_external(l.to, dem_.displacement(l.from), dem_.velocity(l.from));
+  fem_.initialise();
+  dem_.initialise();
+  record_fem();
+  record_dem();
+  initialised_ = true;
+}
+
+void Coupler::run(std::int64_t system_steps) {
+  STRATA_CHECK(initialised_, Input, "Coupler::run before initialise");
+  if (mode_ == Execution::Serial) {
+    for (std::int64_t s = 0; s < system_steps; ++s) {
+      // Jacobi exchange: each side reads the other's boundary at t_n (set_external only
+      // touches external DOFs, so the order of the two loops does not matter)
+      for (const Link& l : overlap_.fem_to_dem)
+        dem_.set_external(l.to, fem_.displacement(l.from), fem_.velocity(l.from));
+      for (const Link& l : overlap_.dem_to_fem)
+        fem_.set_external(l.to, dem_.displacement(l.from), dem_.velocity(l.from));
+      fem_.step();
+      record_fem();
+      for (int k = 0; k < eta_; ++k) {
+        dem_.step();
+        record_dem();
+      }
+      ++done_;
+    }
+    return;
+  }
+  // Parallel: the DEM partition on a second thread, the FEM one on this thread. Each writes
+  // its boundary state into its mailbox for step s (double-buffered by s parity), both meet
+  // at one barrier, then each reads the other's mailbox. A thread cannot overwrite a mailbox
+  // the other is still reading: to write box s+2 it must pass barrier s+1, which the other
+  // reaches only after it has read box s.
+  const std::size_t nf = overlap_.fem_to_dem.size(), nd = overlap_.dem_to_fem.size();
+  std::vector<double> fem_box[2] = {std::vector<double>(2 * nf), std::vector<double>(2 * nf)};
+  std::vector<double> dem_box[2] = {std::vector<double>(2 * nd), std::vector<double>(2 * nd)};
+  std::barrier sync(2);
+  std::atomic<bool> abort{false};
+  std::exception_ptr err[2];
+  auto fem_loop = [&] {
+    try {
+      for (std::int64_t s = 0; s < system_steps; ++s) {
+        std::vector<double>& out = fem_box[s & 1];
+        for (std::size_t k = 0; k < nf; ++k) {
+          out[2 * k] = fem_.displacement(overlap_.fem_to_dem[k].from);
+          out[2 * k + 1] = fem_.velocity(overlap_.fem_to_dem[k].from);
+        }
+        sync.arrive_and_wait();
+        if (abort.load()) return;
+        const std::vector<double>& in = dem_box[s & 1];
+        for (std::size_t k = 0; k < nd; ++k) fem_.set_external(overlap_.dem_to_fem[k].to, in[2 * k], in[2 * k + 1]);
+        fem_.step();
+        record_fem();
+      }
+    } catch (...) {
+      err[0] = std::current_exception();
+      abort.store(true);
+      sync.arrive_and_drop();
+    }
+  };
+  auto dem_loop = [&] {
+    try {
+      for (std::int64_t s = 0; s < system_steps; ++s) {
+        std::vector<double>& out = dem_box[s & 1];
+        for (std::size_t k = 0; k < nd; ++k) {
+          out[2 * k] = dem_.displacement(overlap_.dem_to_fem[k].from);
+          out[2 * k + 1] = dem_.velocity(overlap_.dem_to_fem[k].from);
+        }
+        sync.arrive_and_wait();
+        if (abort.load()) return;
+        const std::vector<double>& in = fem_box[s & 1];
+        for (std::size_t k = 0; k < nf; ++k) dem_.set_external(overlap_.fem_to_dem[k].to, in[2 * k], in[2 * k + 1]);
+        for (int k = 0; k < eta_; ++k) {
+          dem_.step();
+          record_dem();
+        }
+      }
+    } catch (...) {
+      err[1] = std::current_exception();
+      abort.store(true);
+      sync.arrive_and_drop();
+    }
+  };
+  std::thread other(dem_loop);
+  fem_loop();
+  other.join();
+  for (auto& e : err)
+    if (e) std::rethrow_exception(e);
+  done_ += system_steps;
+}
+
+}  // namespace strata::couple

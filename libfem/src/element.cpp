@@ -1,0 +1,165 @@
+#include <strata/core/error.hpp>
+#include <strata/fem/element.hpp>
+
+#include <Eigen/Dense>
+#include <cmath>
+
+namespace strata::fem {
+
+void elasticity_matrix(const Material& m, ElementType t, double* D) {
+  const double E = m.E, nu = m.nu;
+  if (t == ElementType::Tri3) {
+    double c, d11, d12, d33;
+    if (m.plane == PlaneMode::Stress) {
+      c = E / (1 - nu * nu);
+      d11 = c;
+      d12 = c * nu;
+      d33 = c * (1 - nu) / 2;
+    } else {
+      c = E / ((1 + nu) * (1 - 2 * nu));
+      d11 = c * (1 - nu);
+      d12 = c * nu;
+      d33 = c * (1 - 2 * nu) / 2;
+    }
+    const double v[9] = {d11, d12, 0, d12, d11, 0, 0, 0, d33};
+    for (int i = 0; i < 9; ++i) D[i] = v[i];
+    return;
+  }
+  const double lam = E * nu / ((1 + nu) * (1 - 2 * nu)), mu = E / (2 * (1 + nu));
+  for (int i = 0; i < 36; ++i) D[i] = 0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) D[i * 6 + j] = lam;
+    D[i * 6 + i] = lam + 2 * mu;
+    D[(i + 3) * 6 + (i + 3)] = mu;
+  }
+}
+
+double p_wave_speed(const Material& m, ElementType t) {
+  switch (t) {
+    case ElementType::Bar: return std::sqrt(m.E / m.rho);
+    case ElementType::Tri3:
+      if (m.plane == PlaneMode::Stress) return std::sqrt(m.E / (m.rho * (1 - m.nu * m.nu)));
+      [[fallthrough]];
+    case ElementType::Tet4:
+      return std::sqrt(m.E * (1 - m.nu) / (m.rho * (1 + m.nu) * (1 - 2 * m.nu)));
+    case ElementType::Spring: return 0;
+  }
+  return 0;
+}
+
+namespace {
+
+// K = scale · Bᵀ D B for a B with nstrain rows and nd columns (row-major).
+template <int NS, int ND>
+void btdb(const double (&B)[NS][ND], const double* D, double scale, ElementMatrices& out) {
+  double DB[NS][ND];
+  for (int i = 0; i < NS; ++i)
+    for (int j = 0; j < ND; ++j) {
+      double s = 0;
+      for (int k = 0; k < NS; ++k) s += D[i * NS + k] * B[k][j];
+      DB[i][j] = s;
+    }
+  for (int i = 0; i < ND; ++i)
+    for (int j = 0; j < ND; ++j) {
+      double s = 0;
+      for (int k = 0; k < NS; ++k) s += B[k][i] * DB[k][j];
+      out.K[i][j] = scale * s;
+    }
+}
+
+}  // namespace
+
+void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e, ElementMatrices& out) {
+  const int npe = nodes_per_element(block.type), dim = mesh.dim;
+  const Material& mat = block.material;
+  out.nd = npe * dim;
+  for (int a = 0; a < npe; ++a) out.node[a] = block.conn[e * static_cast<std::size_t>(npe) + static_cast<std::size_t>(a)];
+  auto X = [&](int a, int c) { return mesh.x[static_cast<std::size_t>(c)][static_cast<std::size_t>(out.node[a])]; };
+
+  switch (block.type) {
+    case ElementType::Spring:
+    case ElementType::Bar: {
+      // axial two-node element: k [n nᵀ, −n nᵀ; −n nᵀ, n nᵀ]
+      double n[3] = {1, 0, 0}, L = 0;
+      for (int c = 0; c < dim; ++c) {
+        n[c] = X(1, c) - X(0, c);
+        L += n[c] * n[c];
+      }
+      L = std::sqrt(L);
+      if (dim == 1) {
+        n[0] = 1;  // springs act along +x in 1D (zero-length springs allowed)
+      } else {
+        STRATA_CHECK(L > 0, Input, "{} element {} joins coincident nodes {} and {}", to_string(block.type), e,
+                     out.node[0], out.node[1]);
+        for (int c = 0; c < dim; ++c) n[c] /= L;
+      }
+      double k = mat.k;
+      out.m[0] = out.m[1] = 0;
+      if (block.type == ElementType::Bar) {
+        STRATA_CHECK(L > 0, Input, "bar element {} has zero length", e);
+        k = mat.E * mat.area / L;
+        out.m[0] = out.m[1] = 0.5 * mat.rho * mat.area * L;
+      }
+      for (int a = 0; a < 2; ++a)
+        for (int b = 0; b < 2; ++b)
+          for (int i = 0; i < dim; ++i)
+            for (int j = 0; j < dim; ++j) out.K[a * dim + i][b * dim + j] = (a == b ? 1 : -1) * k * n[i] * n[j];
+      return;
+    }
+    case ElementType::Tri3: {
+      const double x1 = X(0, 0), y1 = X(0, 1), x2 = X(1, 0), y2 = X(1, 1), x3 = X(2, 0), y3 = X(2, 1);
+      const double two_a = (x2 - x1) * (y3 - y1) - (x3 - x1) * (y2 - y1);
+      STRATA_CHECK(std::abs(two_a) > 0, Input, "tri3 element {} (nodes {} {} {}) has zero area", e, out.node[0],
+                   out.node[1], out.node[2]);
+      const double b[3] = {y2 - y3, y3 - y1, y1 - y2}, c[3] = {x3 - x2, x1 - x3, x2 - x1};
+      double B[3][6] = {};
+      for (int a = 0; a < 3; ++a) {
+        B[0][2 * a] = b[a] / two_a;
+        B[1][2 * a + 1] = c[a] / two_a;
+        B[2][2 * a] = c[a] / two_a;
+        B[2][2 * a + 1] = b[a] / two_a;
+      }
+      double D[9];
+      elasticity_matrix(mat, block.type, D);
+      const double area = 0.5 * std::abs(two_a);
+      btdb(B, D, mat.thickness * area, out);
+      for (int a = 0; a < 3; ++a) out.m[a] = mat.rho * mat.thickness * area / 3;
+      return;
+    }
+    case ElementType::Tet4: {
+      Eigen::Matrix3d J;
+      for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 3; ++c) J(c, a) = X(a + 1, c) - X(0, c);
+      const double det = J.determinant();
+      STRATA_CHECK(std::abs(det) > 0, Input, "tet4 element {} (nodes {} {} {} {}) has zero volume", e, out.node[0],
+                   out.node[1], out.node[2], out.node[3]);
+      const Eigen::Matrix3d Ji = J.inverse();  // rows: gradients of the natural coordinates
+      double g[4][3];
+      for (int c = 0; c < 3; ++c) {
+        g[0][c] = -(Ji(0, c) + Ji(1, c) + Ji(2, c));
+        for (int a = 1; a < 4; ++a) g[a][c] = Ji(a - 1, c);
+      }
+      double B[6][12] = {};
+      for (int a = 0; a < 4; ++a) {
+        const double gx = g[a][0], gy = g[a][1], gz = g[a][2];
+        B[0][3 * a] = gx;
+        B[1][3 * a + 1] = gy;
+        B[2][3 * a + 2] = gz;
+        B[3][3 * a + 1] = gz;  // γ_yz
+        B[3][3 * a + 2] = gy;
+        B[4][3 * a] = gz;  // γ_xz
+        B[4][3 * a + 2] = gx;
+        B[5][3 * a] = gy;  // γ_xy
+        B[5][3 * a + 1] = gx;
+      }
+      double D[36];
+      elasticity_matrix(mat, block.type, D);
+      const double vol = std::abs(det) / 6;
+      btdb(B, D, vol, out);
+      for (int a = 0; a < 4; ++a) out.m[a] = mat.rho * vol / 4;
+      return;
+    }
+  }
+}
+
+}  // namespace strata::fem
