@@ -20,6 +20,7 @@
 #include <optional>
 
 #include "frames.hpp"
+#include "mesh_report.hpp"
 #include "model_builder.hpp"
 #include "scene/scene.hpp"
 
@@ -280,26 +281,39 @@ int check_scene(const SceneOptions& opt, bool json_out) {
 }
 
 int mesh_scene(const SceneOptions& opt, bool json_out) {
-  const auto rss0 = peak_rss_bytes();
-  (void)rss0;
   const scene::Scene sc = load_scene(opt);
   const BuiltModel m = build_model(sc, /*force=*/true);
   json j = model_json(m, sc);
   j["seconds"] = m.build_seconds;
   j["particles_per_s"] = m.build_seconds > 0 ? double(m.sim.particle_count()) / m.build_seconds : 0.0;
-  j["peak_rss_bytes"] = peak_rss_bytes();
+  // Bond counts by length class (length / d, classes 0.02 wide): one class for a regular
+  // lattice, a spread for an eccentric one (SPEC C4).
+  const double d_ref = m.regions.empty() ? 0.0 : m.regions.front().diameter;
+  const BondStats bonds = bond_stats(m.sim, d_ref);
+  if (!bonds.length.empty()) j["bond_length_classes"] = bond_length_classes(bonds);
   if (!opt.output.empty()) {
     io::Series particles(opt.output, "model");
     const io::PointCloud pc = particle_frame(m.sim, {"id", "group"});
-    j["written"] = particles.add_particles(0.0, pc).string();
+    j["written"] = json::array({particles.add_particles(0.0, pc).string()});
+    for (const auto& f : write_bond_histograms(bonds, opt.output)) j["written"].push_back(f.string());
   }
+  j["peak_rss_bytes"] = peak_rss_bytes();
   if (json_out) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
     print_model(j);
+    if (j.contains("bond_length_classes")) {
+      std::printf("bond lengths (length/d: bonds)");
+      for (const auto& [cls, n] : j["bond_length_classes"].items())
+        std::printf("  %s: %zu", cls.c_str(), n.get<std::size_t>());
+      std::printf("\n");
+    } else if (m.sim.bond_count() > 0) {
+      std::printf("bond lengths not listed: more than %zu bonds\n", kMaxReportedBonds);
+    }
     std::printf("built in     %.3f s (%.3g particles/s), peak memory %.1f MB\n", m.build_seconds,
                 j["particles_per_s"].get<double>(), j["peak_rss_bytes"].get<double>() / 1e6);
-    if (j.contains("written")) std::printf("wrote        %s\n", j["written"].get<std::string>().c_str());
+    if (j.contains("written"))
+      for (const auto& w : j["written"]) std::printf("wrote        %s\n", w.get<std::string>().c_str());
   }
   return 0;
 }

@@ -210,6 +210,40 @@ std::vector<TableSpec> make_schema() {
                .ge(0)
                .def("0.0")
                .doc("Finite-element size for kind = \"fem\"; 0 chooses one automatically."),
+           K("physical", String)
+               .def(R"("")")
+               .doc("For shape = \"file\": the gmsh physical group (a physical surface in 2D, a physical "
+                    "volume in 3D) that is this region, by name; empty: the whole geometry. A closed STL/OFF "
+                    "surface has one region, named after the file."),
+           K("min_boundary_distance", Real, "m")
+               .ge(0)
+               .def("0.0")
+               .doc("For shape = \"file\": keep only particles whose centres lie at least this far inside "
+                    "the boundary; 0 keeps every centre inside (the count is then area or volume × site "
+                    "density), d/2 keeps whole particles inside (as primitive shapes always do)."),
+           K("eccentricity", Choice)
+               .choices({"none", "cube", "sphere"})
+               .def(R"("none")")
+               .doc("Eccentric lattice (ECC4D, SPEC C4): move each particle's centroid by a random offset, "
+                    "uniform in a cube of half-side ra·R (cube, Type A) or uniform on a sphere (a circle in 2D) "
+                    "of radius ra·R (sphere, Type B); bonds stay those of the regular lattice."),
+           K("ra", Real)
+               .ge(0)
+               .lt(1)
+               .def("0.0")
+               .doc("Ra: eccentricity of the centroid offsets, as a fraction of the particle radius R "
+                    "(SPEC C4)."),
+           K("rc", Real)
+               .gt(0)
+               .le(1)
+               .def("1.0")
+               .doc("Rc: bonds longer than Rc·L_max, with L_max the longest bond of the region, are "
+                    "weakened by gamma (SPEC C4)."),
+           K("gamma", Real)
+               .ge(0)
+               .le(1)
+               .def("1.0")
+               .doc("γ: stiffness factor of the weakened bonds, k -> γ·k (SPEC C4 uses 0.001)."),
        }});
 
   s.push_back(
@@ -226,12 +260,29 @@ std::vector<TableSpec> make_schema() {
            K("region", String).def(R"("")").doc("The [[region]] to pick from, by name; empty: all regions."),
            K("select", Choice)
                .choices({"all", "top_row", "bottom_row", "left_column", "right_column", "top_layer",
-                         "bottom_layer", "box"})
+                         "bottom_layer", "box", "physical", "hole_rim"})
                .def(R"("all")")
                .doc("Which particles: all; the row with the largest or smallest y (top_row, "
                     "bottom_row); the column with the smallest or largest x (left_column, "
                     "right_column); the layer with the largest or smallest z in 3D (top_layer, "
-                    "bottom_layer); or those whose centres lie between box_min and box_max (box)."),
+                    "bottom_layer); those whose centres lie between box_min and box_max (box); for "
+                    "regions from geometry files, those of a gmsh physical group (physical: inside a "
+                    "physical surface/volume, or within `width` of a physical curve/surface), or those "
+                    "within `width` of the rim of hole number `hole` of a 2D region (hole_rim)."),
+           K("physical", String)
+               .def(R"("")")
+               .doc("The gmsh physical group of select = \"physical\", by name."),
+           K("hole", Integer)
+               .ge(1)
+               .def("1")
+               .doc("Which hole of select = \"hole_rim\": holes are numbered 1, 2, ... from left to right "
+                    "(by the x, then y, of their centres)."),
+           K("width", Real, "m")
+               .ge(0)
+               .def("0.0")
+               .doc("Width of the band of particles along a boundary (select = \"physical\" on a curve or "
+                    "surface, select = \"hole_rim\"): centres within this distance of it; 0 means one "
+                    "particle diameter."),
            K("box_min", RealList, "m")
                .per_axis()
                .doc("Lower corner of the selection box; required when select = \"box\"."),

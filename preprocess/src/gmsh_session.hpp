@@ -1,0 +1,59 @@
+#pragma once
+// One gmsh session at a time (gmsh keeps global state): initialise once, serialise access,
+// turn gmsh's errors into strata::Error with the file and gmsh's own message.
+#include <strata/config.hpp>
+#include <strata/core/error.hpp>
+
+#include <mutex>
+#include <string>
+
+#if STRATA_WITH_GMSH
+#include <gmsh.h>
+#endif
+
+namespace strata::preprocess::detail {
+
+#if STRATA_WITH_GMSH
+/// Holds the gmsh lock for its lifetime; the model is empty at the start and at the end.
+class GmshSession {
+ public:
+  GmshSession();
+  ~GmshSession();
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+
+  /// Runs f(); a gmsh error becomes Error(Input, "<what>: <gmsh's message>"), and gmsh is
+  /// restarted (its parser does not recover from a syntax error otherwise).
+  template <typename F>
+  auto run(const std::string& what, F&& f) -> decltype(f()) {
+    try {
+      return f();
+    } catch (const std::string& e) {
+      restart();
+      fail(ErrorKind::Input, "{}: {}", what, e);
+    } catch (const strata::Error&) {
+      throw;
+    } catch (const std::exception& e) {
+      restart();
+      fail(ErrorKind::Input, "{}: {}", what, e.what());
+    }
+  }
+
+  /// Last error gmsh logged (empty when none).
+  static std::string last_error();
+
+ private:
+  static void restart();
+  std::unique_lock<std::mutex> lock_;
+  int threads_;  // strata's thread count: gmsh's General.NumThreads sets OpenMP's, restored at the end
+};
+
+}  // namespace strata::preprocess::detail
+
+#include <strata/preprocess/geometry.hpp>
+namespace strata::preprocess::detail {
+/// Reads the meshed gmsh model of the current session into a Geometry (what: for messages).
+Geometry extract_gmsh_model(const std::string& what, int dim);
+#endif
+
+}  // namespace strata::preprocess::detail
