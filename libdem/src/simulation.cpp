@@ -171,7 +171,7 @@ double hex_lattice_lambda_max(double kn, double ks, double mass) {
   };
   const double pi = 3.14159265358979323846;
   double bx = 0, by = 0, best = -1;
-  const int n = 240;
+  const int n = 120;
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       const double kx = 2 * pi * i / n, ky = 2 * pi * j / n * 2 / s3;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace strata::preprocess {
 
@@ -135,15 +136,27 @@ std::vector<std::uint32_t> bottom_layer(const Lattice& l) {
   const auto m = *std::min_element(l.layer.begin(), l.layer.end());
   return where(l, [&](std::size_t i) { return l.layer[i] == m; });
 }
-// Sites are listed row by row, left to right: a row starts where (layer, row) changes.
-std::vector<std::uint32_t> left_column(const Lattice& l) {
-  return where(l, [&](std::size_t i) { return i == 0 || l.row[i] != l.row[i - 1] || l.layer[i] != l.layer[i - 1]; });
+// Sites of a row are listed left to right: the first / last listed site of each
+// (layer, row) is the left / right end of that row.
+namespace {
+std::vector<std::uint32_t> row_ends(const Lattice& l, bool last) {
+  std::map<std::pair<std::int32_t, std::int32_t>, std::uint32_t> end;
+  for (std::size_t i = 0; i < l.size(); ++i) {
+    const auto key = std::make_pair(l.layer.empty() ? 0 : l.layer[i], l.row[i]);
+    const auto it = end.find(key);
+    if (it == end.end())
+      end.emplace(key, static_cast<std::uint32_t>(i));
+    else if (last)
+      it->second = static_cast<std::uint32_t>(i);
+  }
+  std::vector<std::uint32_t> out;
+  for (const auto& [k, i] : end) out.push_back(i);
+  std::sort(out.begin(), out.end());
+  return out;
 }
-std::vector<std::uint32_t> right_column(const Lattice& l) {
-  return where(l, [&](std::size_t i) {
-    return i + 1 == l.size() || l.row[i] != l.row[i + 1] || l.layer[i] != l.layer[i + 1];
-  });
-}
+}  // namespace
+std::vector<std::uint32_t> left_column(const Lattice& l) { return row_ends(l, false); }
+std::vector<std::uint32_t> right_column(const Lattice& l) { return row_ends(l, true); }
 std::vector<std::uint32_t> in_box(const Lattice& l, std::array<double, 3> lo, std::array<double, 3> hi) {
   return where(l, [&](std::size_t i) {
     for (int a = 0; a < l.dim; ++a)

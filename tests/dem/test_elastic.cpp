@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 using namespace strata;
 using namespace strata::dem;
@@ -12,6 +13,7 @@ using namespace strata::dem::test;
 namespace {
 struct Measured {
   double E, nu;
+  double lateral_over_axial;  // interior lateral / axial stress (0 in an ideal uniaxial test)
 };
 
 // Least-squares slope of u against x.
@@ -65,52 +67,84 @@ Measured measure(int dim, const preprocess::Lattice& lat, double cross_section) 
   sim.prescribe_velocity("top", {0, 0, 0}, axm);
   for (int k = 0; k < 200; ++k) {
     sim.run(500);
-    if (sim.kinetic_energy() < 1e-12 * sim.bond_energy()) break;
+    if (sim.kinetic_energy() < 1e-14 * sim.bond_energy()) break;
   }
   EXPECT_LT(sim.kinetic_energy(), 1e-9 * sim.bond_energy()) << "dynamic relaxation did not converge";
-  const double force = sim.group_force("top")[ax];  // the block pushes the platen back (+)
   const auto x = sim.positions();
   const auto u = sim.displacements();
   std::vector<double> coord[3], disp[3];
+  std::vector<char> inside(x.size(), 0);
+  std::size_t n_inside = 0;
   for (std::size_t i = 0; i < x.size(); ++i) {
-    bool inside = true;
+    bool in = true;
     for (int a = 0; a < dim; ++a) {
       const double s = (x[i][a] - u[i][a] - lo[a]) / (hi[a] - lo[a]);
-      inside = inside && s > 0.25 && s < 0.75;
+      in = in && s > 0.25 && s < 0.75;
     }
-    if (!inside) continue;
+    if (!in) continue;
+    inside[i] = 1;
+    ++n_inside;
     for (int a = 0; a < dim; ++a) {
       coord[a].push_back(x[i][a] - u[i][a]);
       disp[a].push_back(u[i][a]);
     }
   }
+  // interior axial stress from the bond virial: σ = (1/V) Σ_p ½ Σ_b f_b·l_b over the
+  // interior particles p (half of each bond to each end), V = n·(cell measure)
+  double virial[3] = {0, 0, 0};
+  for (const auto& b : sim.bonds()) {
+    const double w = 0.5 * (inside[b.i] + inside[b.j]);
+    if (w > 0)
+      for (int a = 0; a < dim; ++a) virial[a] += w * b.force_on_i[a] * (x[b.j][a] - x[b.i][a]);
+  }
+  // compression positive: the bond pushes i away from j, force_on_i·l < 0
+  const double cell = dim == 2 ? std::sqrt(3.0) / 2 * kC1d * kC1d : std::pow(kC1d, 3) / std::sqrt(2.0);
+  double sig[3];
+  for (int a = 0; a < dim; ++a) sig[a] = -virial[a] / (static_cast<double>(n_inside) * cell);
+  const double platen = sim.group_force("top")[ax] / cross_section;
   const double e_axial = slope(coord[ax], disp[ax]);
-  double e_lat = 0;
-  for (int a = 0; a < ax; ++a) e_lat += slope(coord[a], disp[a]) / ax;
-  return {force / cross_section / -e_axial, -e_lat / e_axial};
+  double e_lat = 0, s_lat = 0;
+  for (int a = 0; a < ax; ++a) {
+    e_lat += slope(coord[a], disp[a]) / ax;
+    s_lat += sig[a] / ax;
+  }
+  std::printf("interior stress axial %.5e lateral %.5e, platen stress %.5e, strains %.4e %.4e\n", sig[ax], s_lat,
+              platen, e_axial, e_lat);
+  return {sig[ax] / -e_axial, -e_lat / e_axial, s_lat / sig[ax]};
 }
 }  // namespace
 
 TEST(Elastic, HexBlockMatchesLatticeConstants) {
   // SPEC C2: E·t = 2√3·Kn(Kn+Ks)/(3Kn+Ks), ν = (Kn−Ks)/(3Kn+Ks). A 60-row x 60-column
-  // block, interior strains: within 1 % (the interior of a hex block under uniform stress
-  // is exactly affine up to the free-edge layer, which the interior fit avoids).
+  // block; stress from the bond virial and strains from a displacement fit, both over the
+  // interior (middle half in x and y): within 1 %.
   const double kn = 6.587e10, ks = 2.371e10;
   const double E = 2 * std::sqrt(3.0) * kn * (kn + ks) / (3 * kn + ks), nu = (kn - ks) / (3 * kn + ks);
   const int rows = 60, cols = 60;
   const auto lat = preprocess::hex2d_rows(rows, cols, kC1d);
   const Measured r = measure(2, lat, cols * kC1d);  // width per row: cols·d
-  EXPECT_NEAR(r.E / E, 1.0, 0.01) << "E = " << r.E << " expected " << E;
-  EXPECT_NEAR(r.nu / nu, 1.0, 0.01) << "nu = " << r.nu << " expected " << nu;
+  // The finite block's free edges leave a small lateral stress in the interior (measured
+  // 0.2 % of the axial one, the 1/n surface effect): with the interior stresses and strains
+  // of an isotropic 2D solid, ε_a = (σ_a - ν σ_l)/E and ε_l = (σ_l - ν σ_a)/E, so
+  // ν = (q + r)/(1 + q r) with q = σ_l/σ_a (stresses compression positive) and r = -ε_l/ε_a.
+  const double q = r.lateral_over_axial, rr = r.nu;
+  const double nu_c = (rr + q) / (1 + q * rr);
+  const double E_c = r.E * (1 - nu_c * q);
+  EXPECT_NEAR(E_c / E, 1.0, 0.01) << "E = " << E_c << " expected " << E;
+  EXPECT_NEAR(nu_c / nu, 1.0, 0.01) << "nu = " << nu_c << " expected " << nu;
+  // without the correction the interior values are still within 2 %
+  EXPECT_NEAR(r.E / E, 1.0, 0.02);
+  EXPECT_NEAR(r.nu / nu, 1.0, 0.02);
 }
 
 TEST(Elastic, HcpBlockAlongCAxisMatchesLatticeConstants) {
   // SPEC C2: along the HCP c-axis E = 6√2·Kn(Kn+Ks)/(d(5Kn+Ks)), ν = (Kn−Ks)/(5Kn+Ks).
-  // 14 x 14 x 14 mm block (~3000 spheres): within 3 %. Cross-section: spheres per layer ×
-  // (√3/2)·d² (the area each sphere occupies in a close-packed layer).
+  // 20 x 20 x 20 mm block (~9000 spheres), interior stress (bond virial) and strains
+  // (middle half of the block): within 3 % (the remaining 1/n surface effect: a 14 mm
+  // block gives ν 4 % low; the lateral interior stress is 0.3 % of the axial one).
   const double kn = 6.587e10, ks = 2.371e10, d = kC1d;
   const double E = 6 * std::sqrt(2.0) * kn * (kn + ks) / (d * (5 * kn + ks)), nu = (kn - ks) / (5 * kn + ks);
-  const auto lat = preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {14e-3, 14e-3, 14e-3}, d);
+  const auto lat = preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {20e-3, 20e-3, 20e-3}, d);
   const double area = static_cast<double>(preprocess::top_layer(lat).size()) * std::sqrt(3.0) / 2 * d * d;
   const Measured r = measure(3, lat, area);
   EXPECT_NEAR(r.E / E, 1.0, 0.03) << "E = " << r.E << " expected " << E;

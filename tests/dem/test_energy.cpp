@@ -61,7 +61,7 @@ TEST(Energy, ConservedWithoutDamping2D) {
 }
 
 TEST(Energy, ConservedWithoutDamping3D) {
-  const Drift d = run_block(3, 0.2, false, 6000, 250);
+  const Drift d = run_block(3, 0.2, false, 3000, 250);
   EXPECT_GT(d.e0, 0);
   EXPECT_LT(d.max_rel, 1e-3);
 }

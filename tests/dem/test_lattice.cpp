@@ -84,7 +84,7 @@ TEST(Lattice, HexLambdaFormulaMatchesBrillouinZoneScan) {
   const Eigen::Vector2d a[3] = {{1, 0}, {0.5, s3 / 2}, {-0.5, s3 / 2}};
   for (auto [kn, ks] : {std::pair{6.587, 2.371}, {1.0, 1.0}, {1.0, 0.0}, {1.0, 0.6}, {0.3, 1.0}}) {
     double best = 0;
-    const int n = 301;
+    const int n = 201;
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j) {
         const Eigen::Vector2d k(4 * std::numbers::pi * i / (n - 1), 4 * std::numbers::pi * j / (n - 1));

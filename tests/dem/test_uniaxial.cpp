@@ -79,26 +79,33 @@ TEST(Uniaxial, C1TensileFirstThenPeakThenDropAndConjugateBands) {
   EXPECT_GT(c.peak_strain, 1.2e-3);
   EXPECT_LT(c.peak_strain, 4e-3);
   EXPECT_LT(c.stress.back(), 0.5 * c.peak);
-  // Bands: Hough transform of the shear-break midpoints: two dominant lines inclined to
-  // the loading axis (y) by opposite angles of 15..50 degrees, symmetric within 10 degrees.
+  // Bands: Hough transform of the shear-break midpoints. Expect two dominant families of
+  // lines inclined to the loading axis (y) by opposite angles of 15..50 degrees, equal
+  // within 10 degrees. (In this perfect lattice the bands follow the lattice rows at ±30°,
+  // and the two families collect the same number of votes: look at the strongest four.)
   std::vector<std::array<double, 2>> pts;
   for (const auto& b : c.breaks)
     if (b.mode == BreakMode::Shear) pts.push_back({b.position[0], b.position[1]});
   ASSERT_GT(pts.size(), 50u);
   HoughOptions ho;
-  ho.lines = 2;
+  ho.lines = 4;
   ho.rho_bin = kC1d;
   ho.suppress_theta_deg = 20;
   const auto lines = hough_lines(pts, ho);
-  ASSERT_EQ(lines.size(), 2u);
-  const double a1 = lines[0].direction_deg() - 90, a2 = lines[1].direction_deg() - 90;  // from the y axis
-  std::printf("band directions from the loading axis: %.1f and %.1f degrees\n", a1, a2);
-  EXPECT_LT(a1 * a2, 0) << "the two bands must lean to opposite sides";
-  EXPECT_NEAR(std::abs(a1), std::abs(a2), 10.0);
-  for (double a : {a1, a2}) {
-    EXPECT_GT(std::abs(a), 15.0);
-    EXPECT_LT(std::abs(a), 50.0);
+  ASSERT_GE(lines.size(), 2u);
+  double pos = 0, neg = 0;  // strongest line leaning each way (angle from the y axis)
+  for (const auto& l : lines) {
+    if (l.votes < 0.8 * lines[0].votes) continue;
+    const double a = l.direction_deg() - 90;
+    std::printf("band: %.1f degrees from the loading axis, %.0f votes\n", a, l.votes);
+    if (a > 0 && pos == 0) pos = a;
+    if (a < 0 && neg == 0) neg = a;
   }
+  EXPECT_GT(pos, 15.0);
+  EXPECT_LT(pos, 50.0);
+  EXPECT_LT(neg, -15.0);
+  EXPECT_GT(neg, -50.0);
+  EXPECT_NEAR(pos, -neg, 10.0);
 }
 
 TEST(Uniaxial, FrictionStrengthenedBondsPeakLater) {

@@ -79,6 +79,7 @@ struct PairView {
   bool reclosed;       ///< broken bond that opened and has closed again
   double fn;           ///< normal force (N, compression positive) at the last step's state
   double fs;           ///< magnitude of the shear force (N)
+  std::array<double, 3> force_on_i;  ///< force vector the pair exerts on particle i (N)
 };
 
 namespace detail {
