@@ -3,10 +3,13 @@
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/preprocess/fill.hpp>
+#include <strata/preprocess/geometry.hpp>
+#include <strata/preprocess/mesh_fill.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 namespace strata::app {
 namespace {
@@ -43,13 +46,8 @@ Shape shape_of(const scene::Table& r, int dim) {
   } else if (kind == "polygon") {
     s.kind = Shape::Kind::Polygon;
     for (const auto& p : r.real_table("points")) s.polygon.push_back({p[0], p[1]});
-  } else {
-    // Geometry files are read by the preprocess geometry readers (gmsh, CGAL).
-    r.fail("shape",
-           "shape = \"file\" (geometry files) is not available in this version of strata; "
-           "allowed here: box, disk, sphere, polygon");
   }
-  return s;
+  return s;  // shape = "file" regions are filled from their geometry (fill_file_region)
 }
 
 preprocess::LatticeKind lattice_of(const scene::Table& r, int dim, std::string& name) {
@@ -60,8 +58,57 @@ preprocess::LatticeKind lattice_of(const scene::Table& r, int dim, std::string& 
                          : preprocess::LatticeKind::FCC;
 }
 
-std::vector<std::uint32_t> select(const scene::Table& g, const Lattice& l) {
+/// A filled region: its lattice and, for geometry files, what group selections need.
+struct Filled {
+  Lattice shape_lattice;  ///< primitive shapes
+  std::uint32_t first_id = 0;
+  std::shared_ptr<const preprocess::Geometry> geometry;  ///< shape = "file" only
+  std::optional<preprocess::GeometryRegion> region;
+  std::optional<preprocess::RegionFill> fill;  ///< shape = "file": the lattice and its entity ranges
+  const Lattice& lattice() const { return fill ? fill->lattice : shape_lattice; }
+};
+
+/// Fills a shape = "file" region; geometry files are read once per path.
+Filled fill_file_region(const scene::Table& r, int dim, preprocess::LatticeKind kind, double d,
+                        std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
+  const std::string file = r.str("file");
+  auto& geo = cache[file];
+  if (!geo) {
+    preprocess::GeometryOptions go;
+    go.dim = dim;
+    geo = std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go));
+  }
+  Filled f;
+  f.geometry = geo;
+  f.region = geo->region(r.str("physical"));
+  preprocess::FillOptions fo;
+  fo.kind = kind;
+  fo.d = d;
+  fo.orientation_deg = r.real("orientation");
+  fo.min_boundary_distance = r.real("min_boundary_distance");
+  // One lattice origin per geometry (its lower corner + d/2), so neighbouring regions of a
+  // file share one lattice and never overlap.
+  if (geo->mesh.node_count() > 0) {
+    const preprocess::Bounds b = geo->mesh.bounds();
+    fo.origin = preprocess::Vec3{b.lo[0] + d / 2, b.lo[1] + d / 2, dim == 3 ? b.lo[2] + d / 2 : 0.0};
+  }
+  f.fill = preprocess::fill_region(*f.region, fo);
+  return f;
+}
+
+std::vector<std::uint32_t> select(const scene::Table& g, const Filled& f) {
+  const Lattice& l = f.lattice();
   const std::string& sel = g.str("select");
+  if (sel == "physical" || sel == "hole_rim") {
+    if (!f.geometry)
+      g.fail("select", fmt::format("select = \"{}\" picks from a region read from a geometry file "
+                                   "(shape = \"file\"); name such a region in 'region'",
+                                   sel));
+    const double w = g.real("width") > 0 ? g.real("width") : 2 * l.radius;
+    if (sel == "physical")
+      return preprocess::physical_group_members(*f.geometry, *f.fill, g.str("physical"), w);
+    return preprocess::hole_rim(*f.region, l, int(g.integer("hole")), w);
+  }
   if (sel == "all") {
     std::vector<std::uint32_t> all(l.size());
     for (std::size_t i = 0; i < l.size(); ++i) all[i] = std::uint32_t(i);
@@ -125,11 +172,8 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   }
 
   // Regions: fill each shape with its lattice; remember each region's lattice for groups.
-  struct Filled {
-    Lattice lattice;
-    std::uint32_t first_id = 0;
-  };
   std::map<std::string, Filled> filled;
+  std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
   for (const auto& r : sc.tables("region")) {
     if (r.str("kind") == "fem")
       r.fail("kind", "FEM regions are not available in this version of strata; allowed here: particles");
@@ -139,18 +183,23 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     const auto kind = lattice_of(r, dim, info.lattice);
     info.diameter = r.real("diameter");
     Filled f;
-    f.lattice = preprocess::fill_shape(shape, kind, info.diameter, r.real("orientation"));
-    if (f.lattice.size() == 0)
+    if (r.str("shape") == "file") {
+      f = fill_file_region(r, dim, kind, info.diameter, geometries);
+      info.measure = f.fill->measure;
+    } else {
+      f.shape_lattice = preprocess::fill_shape(shape, kind, info.diameter, r.real("orientation"));
+      info.measure = shape.measure();
+    }
+    if (f.lattice().size() == 0)
       r.fail("diameter", fmt::format("region '{}' holds no particle of diameter {} m: the shape is smaller "
                                      "than one particle",
                                      info.name, info.diameter));
     f.first_id = std::uint32_t(sim.particle_count());
     const int mat = material_id.at(r.str("material"));
     const double rad = info.diameter / 2;
-    sim.reserve(sim.particle_count() + f.lattice.size());
-    for (const auto& x : f.lattice.x) sim.add_particle(x, rad, mat);
-    info.particles = f.lattice.size();
-    info.measure = shape.measure();
+    sim.reserve(sim.particle_count() + f.lattice().size());
+    for (const auto& x : f.lattice().x) sim.add_particle(x, rad, mat);
+    info.particles = f.lattice().size();
     const double one = dim == 2 ? M_PI * rad * rad : 4.0 / 3.0 * M_PI * rad * rad * rad;
     info.packing = info.particles * one / info.measure;
     // Every region is also a group of its own name.
@@ -167,7 +216,7 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     const std::string& region = g.str("region");
     for (const auto& [name, f] : filled) {
       if (!region.empty() && name != region) continue;
-      for (std::uint32_t i : select(g, f.lattice)) ids.push_back(f.first_id + i);
+      for (std::uint32_t i : select(g, f)) ids.push_back(f.first_id + i);
     }
     if (ids.empty()) g.fail("select", fmt::format("group '{}' selects no particle", g.str("name")));
     sim.add_to_group(ids, g.str("name"));
