@@ -135,7 +135,8 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
 
   dem::Settings set;
   set.dt = solver.real("dt");
-  set.allow_unstable = true;  // dt is checked below, against the scene, with a scene position
+  // dt is checked below against the model's dt_crit, so a refusal points at the scene.
+  set.allow_unstable = force || solver.boolean("allow_unstable");
   const std::string& damping = solver.str("damping");
   set.damping = damping == "viscous" ? dem::Settings::Damping::Viscous
                 : damping == "local" ? dem::Settings::Damping::Local
@@ -259,26 +260,20 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
                  w.has("velocity") ? vec3(w.reals("velocity")) : std::array<double, 3>{}, k);
   }
 
-  // Time step: automatic (dt_safety × dt_crit) or checked against dt_crit.
+  // Time step: automatic (dt_safety × dt_crit) or checked against dt_crit. The model is
+  // initialised with a tiny step, then given the real one.
   m.dt_automatic = solver.real("dt") == 0;
-  if (m.dt_automatic) sim.set_dt(std::numeric_limits<double>::min());
+  sim.set_dt(std::numeric_limits<double>::min());
   sim.initialise();
   m.dt_crit = sim.critical_dt();
-  if (m.dt_automatic) {
-    sim.set_dt(solver.real("dt_safety") * m.dt_crit);
-  } else if (solver.real("dt") > m.dt_crit) {
-    const double dt = solver.real("dt");
-    if (!(force || solver.boolean("allow_unstable")))
-      solver.fail("dt",
-                  fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
-                              "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
-                              "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
-                              dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
-    log::warn(
-        "dt = {:.4g} s exceeds the critical time step {:.4g} s (dt/dt_crit = {:.3f}): running anyway as "
-        "asked; results are not reliable",
-        dt, m.dt_crit, dt / m.dt_crit);
-  }
+  const double dt = m.dt_automatic ? solver.real("dt_safety") * m.dt_crit : solver.real("dt");
+  if (dt > m.dt_crit && !set.allow_unstable)
+    solver.fail("dt",
+                fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
+                            "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
+                            "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
+                            dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
+  sim.set_dt(dt);  // warns when above dt_crit and allowed
   m.dt = sim.dt();
   const std::int64_t steps = solver.integer("steps");
   m.steps = steps > 0 ? steps : std::int64_t(std::ceil(solver.real("duration") / m.dt - 1e-9));
