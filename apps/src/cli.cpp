@@ -1,6 +1,7 @@
 // The `strata` command line (CLI11): run, check, mesh, bench, render, reference.
 //
-// Exit status: 0 success, 1 the run failed, 2 bad usage or bad scene.
+// Exit status: 0 success, 1 the run failed, 2 bad usage or bad scene, 130/143 a run stopped by
+// SIGINT/SIGTERM (with a checkpoint).
 #include "cli.hpp"
 
 #include <CLI/CLI.hpp>
@@ -59,9 +60,16 @@ int main(int argc, char** argv) {
       ->take_all();
   run->add_flag("--force", opt.force,
                 "Run even when dt exceeds the critical time step (results are unreliable)");
+  run->add_option("--restart", opt.restart,
+                  "Continue from a checkpoint (OUTDIR/checkpoint.h5) of this scene up to its solver.steps")
+      ->check(CLI::ExistingFile);
   run->footer(
       "Example:\n  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --threads 2 \\\n"
-      "      --set solver.steps=200000 --set output.frames=10");
+      "      --set solver.steps=200000 --set output.frames=10\n"
+      "  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --set solver.steps=400000 \\\n"
+      "      --restart out/c1/checkpoint.h5\n"
+      "SIGINT (Ctrl-C) or SIGTERM stop a run between two chunks of steps: it writes the current frame\n"
+      "and OUTDIR/checkpoint.h5, and exits with status 130 or 143.");
 
   // ---- check ----
   bool check_json = false;

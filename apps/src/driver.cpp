@@ -1,5 +1,6 @@
 #include "driver.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -8,11 +9,14 @@
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
 #include <strata/core/progress.hpp>
+#include <strata/core/state_io.hpp>
+#include <strata/io/checkpoint.hpp>
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
 #include <strata/io/render.hpp>
 #include <strata/io/series.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -119,17 +123,51 @@ void print_model(const json& j) {
 /// Everything a run writes, in one place.
 class RunOutput {
  public:
-  RunOutput(const fs::path& dir, const scene::Scene& sc, const BuiltModel& m)
+  /// `resume`: a restart from a checkpoint taken after the outputs of its step were written;
+  /// frames and probe rows later than that step (written before the run stopped) are dropped.
+  RunOutput(const fs::path& dir, const scene::Scene& sc, const BuiltModel& m, const StateReader* resume)
       : dir_(dir),
         out_(sc.table("output")),
         fields_(out_.strings("fields")),
-        particles_(dir, "particles"),
-        bonds_(dir, "bonds") {
+        particles_(dir, "particles", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh),
+        bonds_(dir, "bonds", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh) {
     std::vector<std::string> cols{"step", "time"};
     if (m.platens.enabled) cols.insert(cols.end(), {"strain", "stress", "force_top", "force_bottom"});
     cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
                              "broken_tension", "broken_shear", "contacts"});
-    probes_.emplace(dir / "probes.csv", cols);
+    if (!resume) {
+      probes_.emplace(dir / "probes.csv", cols);
+      return;
+    }
+    first_step_ = m.sim.step_count();
+    particles_.truncate_after(m.sim.time());
+    bonds_.truncate_after(m.sim.time());
+    probes_.emplace(io::CsvWriter::append(dir / "probes.csv", cols, double(m.sim.step_count())));
+    time_ = resume->get<double>("driver/probes/time");
+    kinetic_ = resume->get<double>("driver/probes/kinetic_energy", time_.size());
+    bond_ = resume->get<double>("driver/probes/bond_energy", time_.size());
+    work_ = resume->get<double>("driver/probes/external_work", time_.size());
+    strain_ = resume->get<double>("driver/probes/strain");
+    stress_ = resume->get<double>("driver/probes/stress", strain_.size());
+    probe_steps_ = resume->get<std::int64_t>("driver/probes/step", strain_.size());
+  }
+
+  /// The probe series kept for the summary and the plots (part of a checkpoint).
+  void save(StateWriter& w) const {
+    w.put("driver/probes/time", time_);
+    w.put("driver/probes/kinetic_energy", kinetic_);
+    w.put("driver/probes/bond_energy", bond_);
+    w.put("driver/probes/external_work", work_);
+    w.put("driver/probes/strain", strain_);
+    w.put("driver/probes/stress", stress_);
+    w.put("driver/probes/step", probe_steps_);
+  }
+
+  /// Step of the last frame written by this process (-1: none).
+  std::int64_t last_frame_step() const { return last_frame_step_; }
+  /// The last frame listed in the series, or an empty path.
+  fs::path last_frame() const {
+    return particles_.frames().empty() ? fs::path() : dir_ / particles_.frames().back().file;
   }
 
   void probe(const BuiltModel& m) {
@@ -153,6 +191,7 @@ class RunOutput {
   }
 
   void frame(const BuiltModel& m) {
+    last_frame_step_ = m.sim.step_count();
     if (!out_.boolean("vtk")) return;
     const io::PointCloud pc = particle_frame(m.sim, fields_);
     particles_.add_particles(m.sim.time(), pc);
@@ -172,8 +211,12 @@ class RunOutput {
     summary["status"] = status;
     summary["steps_done"] = m.sim.step_count();
     summary["wall_seconds"] = run_seconds;
+    // this process's steps (a restart continues from first_step_)
     summary["particle_steps_per_s"] =
-        run_seconds > 0 ? double(m.sim.particle_count()) * double(m.sim.step_count()) / run_seconds : 0.0;
+        run_seconds > 0 ? double(m.sim.particle_count()) * double(m.sim.step_count() - first_step_) / run_seconds
+                        : 0.0;
+    if (first_step_ > 0) summary["restarted_at_step"] = first_step_;
+    summary["state_hash"] = fmt::format("{:016x}", m.sim.state_hash());
     summary["broken_tension"] = m.sim.broken_count(dem::BreakMode::Tension);
     summary["broken_shear"] = m.sim.broken_count(dem::BreakMode::Shear);
     if (!stress_.empty()) {
@@ -255,6 +298,7 @@ class RunOutput {
   }
 
   const std::vector<fs::path>& written() const { return written_; }
+  void add_written(const fs::path& p) { written_.push_back(p); }
 
  private:
   fs::path dir_;
@@ -265,8 +309,210 @@ class RunOutput {
   std::vector<double> time_, kinetic_, bond_, work_, strain_, stress_;
   std::vector<std::int64_t> probe_steps_;
   std::vector<fs::path> written_;
+  std::int64_t last_frame_step_ = -1;
+  std::int64_t first_step_ = 0;
 };
 
+
+// ---- checkpoints and restart --------------------------------------------------------------
+
+/// Fingerprint of a validated scene: FNV-1a of a canonical text of every key (defaults
+/// included, in schema order; referenced files by their contents), leaving out what a
+/// restart may change without changing the model or its trajectory: the [output] table,
+/// solver.steps, solver.duration and solver.threads.
+std::string scene_fingerprint(const scene::Scene& sc) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](std::string_view text) {
+    for (const unsigned char c : text) {
+      h ^= c;
+      h *= 1099511628211ull;
+    }
+    h ^= 0xff;  // separator
+    h *= 1099511628211ull;
+  };
+  for (const scene::TableSpec& spec : scene::schema()) {
+    if (spec.name == "output") continue;
+    const std::vector<scene::Table>* list = &sc.tables(spec.name);
+    std::vector<scene::Table> plain;
+    if (!spec.array) plain.push_back(sc.table(spec.name)), list = &plain;
+    for (const scene::Table& t : *list) {
+      mix(t.label());
+      for (const scene::KeySpec& k : spec.keys) {
+        if (spec.name == "solver" && (k.name == "steps" || k.name == "duration" || k.name == "threads")) continue;
+        mix(k.name);
+        if (!t.has(k.name)) {
+          mix("<none>");
+          continue;
+        }
+        using T = scene::Type;
+        switch (k.type) {
+          case T::Bool: mix(t.boolean(k.name) ? "true" : "false"); break;
+          case T::Integer: mix(fmt::format("{}", t.integer(k.name))); break;
+          case T::Real: mix(fmt::format("{}", t.real(k.name))); break;
+          case T::String:
+          case T::Choice:
+          case T::OutputPath: mix(t.str(k.name)); break;
+          case T::Path: {  // contents, so that a moved scene folder keeps its fingerprint
+            std::ifstream f(t.str(k.name), std::ios::binary);
+            mix(std::string(std::istreambuf_iterator<char>(f), {}));
+            break;
+          }
+          case T::RealList: mix(fmt::format("{}", fmt::join(t.reals(k.name), ","))); break;
+          case T::StringList: mix(fmt::format("{}", fmt::join(t.strings(k.name), ","))); break;
+          case T::RealTable:
+            for (const auto& row : t.real_table(k.name)) mix(fmt::format("{}", fmt::join(row, ",")));
+            break;
+        }
+      }
+    }
+  }
+  return fmt::format("{:016x}", h);
+}
+
+/// Opens a checkpoint for `strata run --restart` and refuses one of another scene or
+/// another strata version (exit status 2; nothing has been written yet).
+std::unique_ptr<io::CheckpointReader> open_checkpoint(const fs::path& file, const std::string& fingerprint,
+                                                      const scene::Scene& sc) {
+  std::unique_ptr<io::CheckpointReader> r;
+  try {
+    r = std::make_unique<io::CheckpointReader>(file);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::IO) throw;
+    fail(ErrorKind::Input, "--restart: {}", e.what());
+  }
+  const io::CheckpointInfo& info = r->info();
+  STRATA_CHECK(info.version == STRATA_VERSION, Input,
+               "--restart: checkpoint {} was written by strata {}, this is strata {}; checkpoints are read "
+               "only by the version that wrote them",
+               file.string(), info.version, STRATA_VERSION);
+  STRATA_CHECK(info.fingerprint == fingerprint, Input,
+               "--restart: checkpoint {} belongs to another scene: its scene fingerprint is {}, {} (with its "
+               "--set options) has {}. Only [output], solver.steps, solver.duration and solver.threads may "
+               "change between a run and its restart",
+               file.string(), info.fingerprint, sc.file.string(), fingerprint);
+  return r;
+}
+
+/// Writes `<dir>/checkpoint.h5` (through a temporary file and a rename).
+fs::path write_checkpoint(const fs::path& dir, const BuiltModel& m, const std::string& fingerprint,
+                          const RunOutput& out, std::int64_t frame_breaks, double wall_seconds) {
+  const fs::path file = dir / "checkpoint.h5";
+  io::CheckpointWriter w(file, {STRATA_VERSION, fingerprint, m.dim, m.sim.particle_count(), m.sim.step_count(),
+                                m.sim.time()});
+  m.sim.save_state(w);
+  out.save(w);
+  w.put_scalar<std::int64_t>("driver/frame_breaks", frame_breaks);
+  w.put_scalar<double>("driver/wall_seconds", wall_seconds);
+  w.commit();
+  log::debug("checkpoint at step {} written to {}", m.sim.step_count(), file.string());
+  return file;
+}
+
+// ---- SIGINT / SIGTERM ----------------------------------------------------------------------
+
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void on_stop_signal(int sig) { g_signal.store(sig); }  // only sets the flag
+
+/// Routes SIGINT and SIGTERM to the flag for the duration of a run; restores the previous
+/// handlers afterwards.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_signal.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  /// The signal received (0: none).
+  static int received() { return g_signal.load(); }
+
+ private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+// ---- output cadences -----------------------------------------------------------------------
+
+/// When probes, frames and checkpoints are due: pure functions of the step (and, for
+/// frame_every_breaks, of the break count at the last frame), so a restart continues them.
+struct Cadence {
+  enum class Frames { None, Steps, Time, Breaks };
+  std::int64_t steps = 0;
+  std::int64_t probe_every = 1;
+  Frames frames = Frames::None;
+  std::int64_t frame_every = 0;   // Steps
+  double frame_time = 0, dt = 0;  // Time
+  std::int64_t frame_breaks = 0;  // Breaks
+  std::int64_t checkpoint_every = 0;
+
+  Cadence(const scene::Table& o, std::int64_t total_steps, double time_step)
+      : steps(total_steps), dt(time_step) {
+    probe_every = o.integer("probe_every") > 0 ? o.integer("probe_every") : std::max<std::int64_t>(1, steps / 2000);
+    checkpoint_every = o.integer("checkpoint_every");
+    if (o.integer("frame_every_breaks") > 0) {
+      frames = Frames::Breaks;
+      frame_breaks = o.integer("frame_every_breaks");
+    } else if (o.real("frame_every_time") > 0) {
+      frames = Frames::Time;
+      frame_time = o.real("frame_every_time");
+    } else if (o.integer("frames") > 0) {
+      frames = Frames::Steps;
+      frame_every = std::max<std::int64_t>(1, steps / o.integer("frames"));
+    }
+  }
+
+  /// Smallest step > s that is a multiple of `every`, or the last step.
+  std::int64_t next_multiple(std::int64_t s, std::int64_t every) const {
+    return std::min(steps, (s / every + 1) * every);
+  }
+  /// Step of the k-th frame of Frames::Time (the step nearest to k·frame_time).
+  std::int64_t time_frame_step(std::int64_t k) const { return std::llround(double(k) * frame_time / dt); }
+
+  bool probe_due(std::int64_t s) const { return s % probe_every == 0 || s == steps; }
+  std::int64_t next_probe(std::int64_t s) const { return next_multiple(s, probe_every); }
+
+  bool frame_due(std::int64_t s, std::size_t broken, std::size_t broken_at_last_frame) const {
+    switch (frames) {
+      case Frames::None: return false;
+      case Frames::Steps: return s % frame_every == 0 || s == steps;
+      case Frames::Time: {
+        if (s == 0 || s == steps) return true;
+        const auto k = std::int64_t(double(s) * dt / frame_time);
+        return time_frame_step(k) == s || time_frame_step(k + 1) == s;
+      }
+      case Frames::Breaks:
+        return s == 0 || s == steps ||
+               (probe_due(s) && broken >= broken_at_last_frame + std::size_t(frame_breaks));
+    }
+    return false;
+  }
+  std::int64_t next_frame(std::int64_t s) const {
+    switch (frames) {
+      case Frames::Steps: return next_multiple(s, frame_every);
+      case Frames::Time: {
+        auto k = std::int64_t(double(s) * dt / frame_time);
+        while (time_frame_step(k) <= s) ++k;
+        return std::min(steps, time_frame_step(k));
+      }
+      default: return steps;  // Breaks: checked at probe rows
+    }
+  }
+  bool checkpoint_due(std::int64_t s) const { return checkpoint_every > 0 && s > 0 && s % checkpoint_every == 0; }
+  std::int64_t next_checkpoint(std::int64_t s) const {
+    return checkpoint_every > 0 ? next_multiple(s, checkpoint_every) : steps;
+  }
+};
 }  // namespace
 
 int check_scene(const SceneOptions& opt, bool json_out) {
@@ -319,42 +565,86 @@ int mesh_scene(const SceneOptions& opt, bool json_out) {
 }
 
 int run_scene(const SceneOptions& opt) {
-  // Validate and build everything before the first byte is written.
+  // Validate and build everything, and check a checkpoint to restart from, before the first
+  // byte is written.
   const scene::Scene sc = load_scene(opt);
+  const scene::Table& o = sc.table("output");
+  if (!STRATA_WITH_HDF5 && !opt.restart.empty())
+    fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (--restart)");
+  if (!STRATA_WITH_HDF5 && o.integer("checkpoint_every") > 0)
+    fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (output.checkpoint_every)");
   BuiltModel m = build_model(sc, opt.force);
+  const std::string fingerprint = scene_fingerprint(sc);
+  std::unique_ptr<io::CheckpointReader> ckpt;
+  if (!opt.restart.empty()) {
+    ckpt = open_checkpoint(opt.restart, fingerprint, sc);
+    m.sim.load_state(*ckpt);
+    m.dt = m.sim.dt();
+  }
   const json model = model_json(m, sc);
   print_model(model);
 
-  const fs::path dir = opt.output.empty() ? fs::path(sc.table("output").str("directory")) : opt.output;
+  const fs::path dir = opt.output.empty() ? fs::path(o.str("directory")) : opt.output;
   fs::create_directories(dir);
-  RunOutput out(dir, sc, m);
+  RunOutput out(dir, sc, m, ckpt.get());
 
-  const scene::Table& o = sc.table("output");
   const std::int64_t steps = m.steps;
-  const std::int64_t probe_every =
-      o.integer("probe_every") > 0 ? o.integer("probe_every") : std::max<std::int64_t>(1, steps / 2000);
-  const std::int64_t frames = o.integer("frames");
-  const std::int64_t frame_every = frames > 0 ? std::max<std::int64_t>(1, steps / frames) : steps + 1;
+  const std::int64_t first = m.sim.step_count();  // 0, or the checkpoint's step
+  const Cadence cad(o, steps, m.dt);
+  std::int64_t frame_breaks = 0;  // broken bonds at the last frame (output.frame_every_breaks)
+  double wall_before = 0;         // run time before the restart
+  if (ckpt) {
+    frame_breaks = ckpt->get_scalar<std::int64_t>("driver/frame_breaks");
+    wall_before = ckpt->get_scalar<double>("driver/wall_seconds");
+    std::printf("restart      step %lld (t = %.6g s) of %s\n", (long long)first, m.sim.time(),
+                opt.restart.string().c_str());
+    ckpt.reset();
+  }
 
-  log::info("running {} steps on {} thread(s); output in {}", steps, par::threads(), dir.string());
+  log::info("running {} steps on {} thread(s); output in {}", steps - std::min(first, steps), par::threads(),
+            dir.string());
   Progress progress("run", steps);
   const auto t0 = std::chrono::steady_clock::now();
-  std::int64_t next_probe = 0, next_frame = frames > 0 ? 0 : steps + 1;
+  auto wall = [&] { return wall_before + seconds_since(t0); };
+  std::int64_t max_chunk = 16;  // steps per run() call, adapted to ~0.25 s so signals are seen soon
+  const StopSignals stop;
   try {
     for (;;) {
       const std::int64_t s = m.sim.step_count();
-      if (s >= next_probe) {
-        out.probe(m);
-        next_probe = std::min(next_probe + probe_every, steps);
-        if (s >= steps) next_probe = steps + 1;
-      }
-      if (s >= next_frame) {
-        out.frame(m);
-        next_frame = std::min(next_frame + frame_every, steps);
-        if (s >= steps) next_frame = steps + 1;
+      // outputs of step s (a restart's first step had them before its checkpoint was taken)
+      if (!(first > 0 && s == first)) {
+        if (cad.probe_due(s)) out.probe(m);
+        if (cad.frame_due(s, m.sim.broken_count(), std::size_t(frame_breaks))) {
+          out.frame(m);
+          frame_breaks = std::int64_t(m.sim.broken_count());
+        }
       }
       if (s >= steps) break;
-      m.sim.run(std::min({next_probe, next_frame, steps}) - s);
+      if (const int sig = StopSignals::received()) {
+        // Interrupted: the current frame, a checkpoint, what is known so far; then stop.
+        progress.finish(s);
+        if (out.last_frame_step() != s) out.frame(m);
+        fs::path ck;
+        if (STRATA_WITH_HDF5) ck = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
+        out.finish(m, model, seconds_since(t0), fmt::format("interrupted by SIG{} at step {}", sigabbrev_np(sig), s));
+        const fs::path frame = out.last_frame();
+        std::printf("interrupted by SIG%s at step %lld (t = %.6g s)\n", sigabbrev_np(sig), (long long)s, m.sim.time());
+        if (!frame.empty()) std::printf("  last frame  %s\n", frame.string().c_str());
+        if (!ck.empty())
+          std::printf("  checkpoint  %s\n  continue with: strata run %s --restart %s\n", ck.string().c_str(),
+                      sc.file.string().c_str(), ck.string().c_str());
+        std::fflush(stdout);
+        return 128 + sig;
+      }
+      if (cad.checkpoint_due(s) && s != first) write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
+      const std::int64_t to =
+          std::min({cad.next_probe(s), cad.next_frame(s), cad.next_checkpoint(s), steps, s + max_chunk});
+      const auto c0 = std::chrono::steady_clock::now();
+      m.sim.run(to - s);
+      const double took = seconds_since(c0);
+      if (to - s == max_chunk || took > 0.25)
+        max_chunk = std::clamp<std::int64_t>(took > 0 ? std::int64_t(double(to - s) * 0.25 / took) : 2 * max_chunk,
+                                             1, 1 << 20);
       progress.update(m.sim.step_count());
     }
   } catch (const Error& e) {
@@ -374,9 +664,12 @@ int run_scene(const SceneOptions& opt) {
   }
   progress.finish(m.sim.step_count());
   const double run_seconds = seconds_since(t0);
+  // A checkpoint at the end lets a later `--restart` (with more steps) continue the run.
+  if (STRATA_WITH_HDF5) out.add_written(write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall()));
   out.finish(m, model, run_seconds, "completed");
-  log::info("{} steps in {} ({:.3g} particle-steps/s); {} bonds broken ({} tension, {} shear)", steps,
-            format_duration(run_seconds), double(m.sim.particle_count()) * double(steps) / run_seconds,
+  const std::int64_t done = m.sim.step_count() - first;
+  log::info("{} steps in {} ({:.3g} particle-steps/s); {} bonds broken ({} tension, {} shear)", done,
+            format_duration(run_seconds), run_seconds > 0 ? double(m.sim.particle_count()) * double(done) / run_seconds : 0.0,
             m.sim.broken_count(), m.sim.broken_count(dem::BreakMode::Tension),
             m.sim.broken_count(dem::BreakMode::Shear));
   out.pictures(sc);

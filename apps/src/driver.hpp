@@ -13,9 +13,12 @@ struct SceneOptions {
   int threads = -1;                    ///< -1: the scene's [solver] threads
   std::vector<std::string> overrides;  ///< --set KEY=VALUE
   bool force = false;                  ///< run even when dt > dt_crit
+  std::filesystem::path restart;       ///< `strata run --restart`: checkpoint to continue from
 };
 
-/// `strata run`: returns the exit status; throws strata::Error on bad input or a failed run.
+/// `strata run`: returns the exit status (0; 130 or 143 after SIGINT or SIGTERM, with a
+/// checkpoint and the current frame written); throws strata::Error on bad input or a failed
+/// run. With `opt.restart` the run continues from that checkpoint to the scene's steps.
 int run_scene(const SceneOptions& opt);
 /// `strata check`: validate and print what would be built and the derived numbers.
 int check_scene(const SceneOptions& opt, bool json);

@@ -176,6 +176,11 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   std::map<std::string, Filled> filled;
   std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
   for (const auto& r : sc.tables("region")) {
+    if (r.str("eccentricity") != "none")
+      r.fail("eccentricity",
+             "eccentric lattices (ECC4D) need per-bond rest lengths and stiffness factors in the DEM, which "
+             "this version of strata does not have yet; allowed here: \"none\" (the offsets and bond "
+             "statistics are available from strata::preprocess::make_eccentric)");
     if (r.str("kind") == "fem")
       r.fail("kind", "FEM regions are not available in this version of strata; allowed here: particles");
     RegionInfo info;

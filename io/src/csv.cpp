@@ -30,6 +30,41 @@ CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string>
   std::fflush(file_);
 }
 
+CsvWriter CsvWriter::append(const std::filesystem::path& path, std::vector<std::string> columns, double keep_until,
+                            std::size_t flush_every) {
+  if (!std::filesystem::exists(path)) return CsvWriter(path, std::move(columns), flush_every);
+  std::ifstream in(path, std::ios::binary);
+  STRATA_CHECK(in, IO, "cannot open {}", path.string());
+  std::string header, line, kept;
+  std::getline(in, header);
+  if (!header.empty() && header.back() == '\r') header.pop_back();
+  const std::string expected = fmt::format("{}", fmt::join(columns, ","));
+  STRATA_CHECK(header == expected, Input, "{} has the columns '{}', expected '{}': not written by this scene",
+               path.string(), header, expected);
+  std::size_t rows = 0;
+  while (std::getline(in, line)) {
+    // a row cut short by a killed run has no newline and may not parse: drop it too
+    if (in.eof() || line.empty()) break;
+    char* end = nullptr;
+    const double first = std::strtod(line.c_str(), &end);
+    if (end == line.c_str() || !(first <= keep_until)) break;
+    kept += line;
+    kept += '\n';
+    ++rows;
+  }
+  in.close();
+  detail::write_text_atomic(path, expected + "\n" + kept);
+
+  CsvWriter w;
+  w.path_ = path;
+  w.columns_ = std::move(columns);
+  w.flush_every_ = flush_every == 0 ? 1 : flush_every;
+  w.rows_ = rows;
+  w.file_ = std::fopen(path.c_str(), "a");
+  STRATA_CHECK(w.file_, IO, "cannot open {} for appending: {}", path.string(), std::strerror(errno));
+  return w;
+}
+
 CsvWriter::~CsvWriter() {
   if (file_) std::fclose(file_);  // no throw from a destructor; close() reports errors
 }

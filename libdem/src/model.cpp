@@ -1469,6 +1469,56 @@ class Model final : public ModelBase {
     }
     return h;
   }
+
+  // ---- checkpoints (state.cpp) -------------------------------------------------------------
+  StateRefs state_refs() override {
+    StateRefs r;
+    r.dim = D;
+    for (int a = 0; a < D; ++a) {
+      r.x[a] = &x[a];
+      r.v[a] = &v[a];
+      r.x0[a] = &x0[a];
+      r.f[a] = &f[a];
+    }
+    r.im = &im;
+    r.rad = &rad;
+    r.id = &id;
+    r.grp = &grp;
+    r.mat = &mat;
+    r.flags = &flags;
+    r.bonds = &bonds;
+    r.contacts = &contacts;
+    r.bcp = &bcp;
+    r.acc = &acc;
+    r.events = &events;
+    r.step = &step_;
+    r.last_good = &last_good;
+    r.time = &time_;
+    r.dt_crit = &dt_crit;
+    r.lam_est = &lam_est;
+    r.lam_bound = &lam_bound;
+    r.energy_budget0 = &energy_budget0;
+    r.energy_tiny = &energy_tiny;
+    r.skin = &skin;
+    r.disp_bound = &disp_bound;
+    r.initialised = &initialised;
+    r.bcs_dirty = &bcs_dirty;
+    r.energy_valid = &energy_valid;
+    r.budget_dirty = &budget_dirty;
+    r.contacts_on = &contacts_on;
+    return r;
+  }
+
+  /// After a load: the particles are in their saved (sorted) order; rebuild what derives
+  /// from the state. The thread plan is a function of the pair lists and the thread count
+  /// only, so rebuilding it does not change the floating-point path.
+  void state_loaded() override {
+    refresh_laws();
+    inv_cache.clear();
+    sorted = true;
+    plan_dirty = true;
+    for (auto& b : evbuf) b.clear();
+  }
 };
 
 template <int D>

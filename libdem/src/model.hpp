@@ -69,6 +69,40 @@ struct alignas(64) BlockAcc {
   double vmax2 = 0;      // largest |v|² in the last step
 };
 
+/// The run state of a Model<D>, by reference, for checkpoints (state.cpp). Together with
+/// ModelBase's public members it is everything that influences future steps; the rest
+/// (pair-law table, id lookup cache, thread plan, cross-pair slots) is derived from it.
+struct StateRefs {
+  int dim = 0;
+  std::array<std::vector<double>*, 3> x{}, v{}, x0{}, f{};  // first `dim` used
+  std::vector<double>* im = nullptr;
+  std::vector<double>* rad = nullptr;
+  std::vector<std::uint32_t>* id = nullptr;
+  std::vector<std::uint32_t>* grp = nullptr;
+  std::vector<std::uint8_t>* mat = nullptr;
+  std::vector<std::uint8_t>* flags = nullptr;
+  PairList* bonds = nullptr;
+  PairList* contacts = nullptr;
+  std::vector<BcParticle>* bcp = nullptr;
+  std::vector<BlockAcc>* acc = nullptr;
+  std::vector<BreakEvent>* events = nullptr;
+  std::int64_t* step = nullptr;
+  std::int64_t* last_good = nullptr;
+  double* time = nullptr;
+  double* dt_crit = nullptr;
+  double* lam_est = nullptr;
+  double* lam_bound = nullptr;
+  double* energy_budget0 = nullptr;
+  double* energy_tiny = nullptr;
+  double* skin = nullptr;
+  double* disp_bound = nullptr;
+  bool* initialised = nullptr;
+  bool* bcs_dirty = nullptr;
+  bool* energy_valid = nullptr;
+  bool* budget_dirty = nullptr;
+  bool* contacts_on = nullptr;
+};
+
 class ModelBase {
  public:
   virtual ~ModelBase() = default;
@@ -117,6 +151,10 @@ class ModelBase {
   virtual std::vector<PairView> pairs(bool bonds) const = 0;
   virtual std::size_t memory_bytes() const = 0;
   virtual std::uint64_t state_hash() const = 0;
+  /// Checkpoints (state.cpp): the run state by reference, and the rebuild of derived data
+  /// after it has been overwritten.
+  virtual StateRefs state_refs() = 0;
+  virtual void state_loaded() = 0;
 };
 
 template <int D>

@@ -1,7 +1,13 @@
 // The `strata` command as a user meets it: run the binary, check exit status, messages and
 // the files left behind.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <strata/io/series.hpp>
+#include <strata/io/vtk.hpp>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
 
 #include <array>
 #include <cstdio>
@@ -9,6 +15,7 @@
 #include <fstream>
 #include <random>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -224,5 +231,183 @@ TEST(Cli, ReportWritesTheSweepTables) {
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(d / "chain6_sweep.csv"));
   EXPECT_TRUE(fs::exists(d / "chain6_sweep.md"));
+  fs::remove_all(d);
+}
+
+// ---- checkpoints, restart, interrupted and killed runs -------------------------------------
+
+namespace {
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+/// A string field of summary.json (enough of a parser for the flat fields compared here).
+std::string summary_field(const fs::path& dir, const std::string& key) {
+  const std::string text = read_text(dir / "summary.json");
+  const auto k = text.find("\"" + key + "\":");
+  if (k == std::string::npos) return "<missing " + key + ">";
+  const auto b = k + key.size() + 3;
+  const auto e = text.find_first_of(",\n}", b);
+  return text.substr(b, e - b);
+}
+
+/// The small scene squeezed fast enough to break bonds within a few hundred steps.
+std::string breaking_scene(const std::string& extra = "") {
+  std::string t = small_scene(extra);
+  t.replace(t.find("velocity = [0.0, -0.05]"), 23, "velocity = [0.0, -5.0]");
+  return t;
+}
+
+/// Starts `strata ARGS...` with output to `log`; returns its process id.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(fd, 1);
+    dup2(fd, 2);
+    std::vector<char*> argv{const_cast<char*>(STRATA_EXE)};
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(STRATA_EXE, argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+/// Frames listed in a .pvd (0 when it does not exist yet).
+int pvd_frames(const fs::path& pvd) {
+  const std::string t = read_text(pvd);
+  int n = 0;
+  for (auto p = t.find("<DataSet"); p != std::string::npos; p = t.find("<DataSet", p + 1)) ++n;
+  return n;
+}
+
+/// Waits until `pvd` lists at least `n` frames (true) or the process ends or 20 s pass.
+bool wait_for_frames(pid_t pid, const fs::path& pvd, int n) {
+  for (int i = 0; i < 2000; ++i) {
+    if (pvd_frames(pvd) >= n) return true;
+    int st = 0;
+    if (waitpid(pid, &st, WNOHANG) == pid) return false;
+    usleep(10000);
+  }
+  return false;
+}
+
+/// Waits for the process (at most 20 s, then SIGKILL); returns the raw wait status.
+int wait_exit(pid_t pid) {
+  int st = 0;
+  for (int i = 0; i < 2000; ++i) {
+    if (waitpid(pid, &st, WNOHANG) == pid) return st;
+    usleep(10000);
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, &st, 0);
+  return -1;
+}
+
+/// A run far too long to finish during a test, with a frame every 200 steps.
+std::string endless_scene() {
+  std::string t = breaking_scene("[output]\nframes = 100000\nrender = false\n");
+  t.replace(t.find("steps = 400"), 11, "steps = 20000000");
+  return t;
+}
+
+}  // namespace
+
+// Issue 5 acceptance: 2N steps straight and N + N with a restart in between give the same
+// final state (hash), break counts, probe rows and break list, bit for bit.
+TEST(Cli, RestartFromTheFinalCheckpointEqualsAStraightRun) {
+  const fs::path d = temp_dir("restart");
+  const fs::path f = write(d, "scene.toml", breaking_scene("[output]\nframes = 2\nrender = false\n"));
+  const auto straight = strata("run " + f.string() + " -o " + (d / "a").string() + " --set solver.steps=800");
+  ASSERT_EQ(straight.status, 0) << straight.output;
+  const auto half = strata("run " + f.string() + " -o " + (d / "b").string());
+  ASSERT_EQ(half.status, 0) << half.output;
+  ASSERT_TRUE(fs::exists(d / "b" / "checkpoint.h5")) << half.output;
+  const auto rest = strata("run " + f.string() + " -o " + (d / "b").string() +
+                           " --set solver.steps=800 --restart " + (d / "b" / "checkpoint.h5").string());
+  ASSERT_EQ(rest.status, 0) << rest.output;
+  EXPECT_NE(rest.output.find("restart      step 400"), std::string::npos) << rest.output;
+  for (const char* key : {"state_hash", "steps_done", "broken_tension", "broken_shear", "peak_stress_pa"})
+    EXPECT_EQ(summary_field(d / "b", key), summary_field(d / "a", key)) << key;
+  EXPECT_NE(summary_field(d / "a", "broken_tension"), "0") << "the test must break bonds";
+  EXPECT_EQ(read_text(d / "b" / "probes.csv"), read_text(d / "a" / "probes.csv"));
+  EXPECT_EQ(read_text(d / "b" / "breaks.csv"), read_text(d / "a" / "breaks.csv"));
+  // frames of the first part are kept, the restart appends after them
+  EXPECT_EQ(pvd_frames(d / "b" / "particles.pvd"), 4);  // steps 0, 200, 400 and 800
+  fs::remove_all(d);
+}
+
+TEST(Cli, RestartWithACheckpointOfAnotherSceneIsRefused) {
+  const fs::path d = temp_dir("refuse");
+  const fs::path f = write(d, "scene.toml", small_scene("[output]\nframes = 0\nrender = false\n"));
+  ASSERT_EQ(strata("run " + f.string() + " -o " + (d / "a").string()).status, 0);
+  const auto r = strata("run " + f.string() + " -o " + (d / "b").string() + " --set material.rock.kn=5e10" +
+                        " --restart " + (d / "a" / "checkpoint.h5").string());
+  EXPECT_EQ(r.status, 2) << r.output;
+  EXPECT_NE(r.output.find("belongs to another scene"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("fingerprint"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(d / "b")) << "a refused restart must write nothing";
+  const auto junk = strata("run " + f.string() + " -o " + (d / "c").string() + " --restart " + f.string());
+  EXPECT_EQ(junk.status, 2) << junk.output;
+  EXPECT_NE(junk.output.find("not a strata checkpoint"), std::string::npos) << junk.output;
+  fs::remove_all(d);
+}
+
+// Issue 5 acceptance: a run killed with SIGKILL mid-way leaves a .pvd that lists only
+// complete frames (every listed file exists and reads back).
+TEST(Cli, KilledRunLeavesAPvdOfCompleteFrames) {
+  const fs::path d = temp_dir("kill");
+  const fs::path f = write(d, "scene.toml", endless_scene());
+  const pid_t pid = spawn({"run", f.string(), "-o", (d / "res").string()}, d / "log.txt");
+  ASSERT_GT(pid, 0);
+  const bool started = wait_for_frames(pid, d / "res" / "particles.pvd", 3);
+  kill(pid, SIGKILL);
+  int st = 0;
+  waitpid(pid, &st, 0);
+  ASSERT_TRUE(started) << read_text(d / "log.txt");
+  ASSERT_TRUE(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
+  for (const char* series : {"particles.pvd", "bonds.pvd"}) {
+    const auto frames = strata::io::read_pvd(d / "res" / series);
+    EXPECT_GE(frames.size(), series[0] == 'p' ? 3u : 2u) << series;
+    for (const auto& e : frames) {
+      ASSERT_TRUE(fs::exists(d / "res" / e.file)) << e.file;
+      EXPECT_NO_THROW(strata::io::read_vtp(d / "res" / e.file)) << e.file;
+    }
+  }
+  fs::remove_all(d);
+}
+
+// SIGINT stops a run between chunks with status 130, the current frame and a checkpoint;
+// the restart from it reaches the same state as a run that was never interrupted.
+TEST(Cli, InterruptedRunWritesACheckpointAndRestartsExactly) {
+  const fs::path d = temp_dir("sigint");
+  const fs::path f = write(d, "scene.toml", endless_scene());
+  const pid_t pid = spawn({"run", f.string(), "-o", (d / "res").string()}, d / "log.txt");
+  ASSERT_GT(pid, 0);
+  const bool started = wait_for_frames(pid, d / "res" / "particles.pvd", 2);
+  kill(pid, SIGINT);
+  const int st = wait_exit(pid);
+  ASSERT_TRUE(started) << read_text(d / "log.txt");
+  const std::string log = read_text(d / "log.txt");
+  ASSERT_TRUE(WIFEXITED(st)) << log;
+  EXPECT_EQ(WEXITSTATUS(st), 130) << log;
+  EXPECT_NE(log.find("interrupted by SIGINT"), std::string::npos) << log;
+  ASSERT_TRUE(fs::exists(d / "res" / "checkpoint.h5")) << log;
+  EXPECT_NE(summary_field(d / "res", "status").find("interrupted"), std::string::npos);
+
+  const std::string at = summary_field(d / "res", "steps_done");
+  const std::string steps = std::to_string(std::stoll(at) + 300);
+  const std::string quiet = " --set output.vtk=false --set solver.steps=" + steps;
+  const auto rest = strata("run " + f.string() + " -o " + (d / "res").string() + quiet + " --restart " +
+                           (d / "res" / "checkpoint.h5").string());
+  ASSERT_EQ(rest.status, 0) << rest.output;
+  const auto straight = strata("run " + f.string() + " -o " + (d / "straight").string() + quiet);
+  ASSERT_EQ(straight.status, 0) << straight.output;
+  EXPECT_EQ(summary_field(d / "res", "steps_done"), steps);
+  EXPECT_EQ(summary_field(d / "res", "state_hash"), summary_field(d / "straight", "state_hash"));
+  EXPECT_EQ(summary_field(d / "res", "broken_tension"), summary_field(d / "straight", "broken_tension"));
   fs::remove_all(d);
 }

@@ -449,7 +449,26 @@ std::vector<TableSpec> make_schema() {
            K("frames", Integer)
                .ge(0)
                .def("20")
-               .doc("Number of VTK frames, evenly spaced over the run; 0 writes none."),
+               .doc("Number of VTK frames, evenly spaced over the run; 0 writes none. "
+                    "frame_every_breaks and frame_every_time take precedence."),
+           K("frame_every_time", Real, "s")
+               .ge(0)
+               .def("0.0")
+               .doc("Simulated time between two frames (at the nearest step), plus the first and the "
+                    "last; 0: not used. Takes precedence over frames."),
+           K("frame_every_breaks", Integer)
+               .ge(0)
+               .def("0")
+               .doc("Write a frame whenever this many more bonds have broken since the last frame "
+                    "(checked at every probe row), plus the first and the last; 0: not used. Takes "
+                    "precedence over frame_every_time and frames."),
+           K("checkpoint_every", Integer, "steps")
+               .ge(0)
+               .def("0")
+               .doc("Steps between two checkpoints (`checkpoint.h5` in the output folder, replaced "
+                    "each time); 0: only at the end of the run and when it is interrupted (SIGINT, "
+                    "SIGTERM). `strata run SCENE --restart checkpoint.h5` continues the run. Needs "
+                    "STRATA_WITH_HDF5."),
            K("probe_every", Integer, "steps")
                .ge(0)
                .def("0")

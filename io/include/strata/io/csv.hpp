@@ -21,6 +21,14 @@ class CsvWriter {
             std::size_t flush_every = 64);
   ~CsvWriter();
   CsvWriter(CsvWriter&&) noexcept;
+
+  /// Continues a CSV file written with the same columns (a restart from a checkpoint): rows
+  /// whose first column is greater than `keep_until` are dropped (they were written after
+  /// the checkpoint), then new rows are appended. A missing file is created with the header.
+  /// Throws strata::Error (Input) when the file's header differs from `columns`.
+  static CsvWriter append(const std::filesystem::path& path, std::vector<std::string> columns,
+                          double keep_until, std::size_t flush_every = 64);
+
   CsvWriter& operator=(CsvWriter&&) noexcept;
   CsvWriter(const CsvWriter&) = delete;
   CsvWriter& operator=(const CsvWriter&) = delete;
@@ -36,10 +44,13 @@ class CsvWriter {
   void close();
 
   const std::vector<std::string>& columns() const { return columns_; }
+  /// Rows written (for an appending writer: rows kept from the file plus rows written).
   std::size_t rows() const { return rows_; }
   const std::filesystem::path& path() const { return path_; }
 
  private:
+  CsvWriter() = default;
+
   std::filesystem::path path_;
   std::vector<std::string> columns_;
   std::size_t flush_every_ = 64;

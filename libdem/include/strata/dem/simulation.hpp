@@ -21,6 +21,11 @@
 #include <string>
 #include <vector>
 
+namespace strata {
+class StateWriter;
+class StateReader;
+}  // namespace strata
+
 namespace strata::dem {
 
 /// Material of a particle; bonds and contacts between two materials use the pair rule in
@@ -196,6 +201,19 @@ class Simulation {
   std::size_t memory_bytes() const;
   /// FNV-1a hash of positions, velocities, bond states and shear displacements.
   std::uint64_t state_hash() const;
+
+  // ---- checkpoints (strata/core/state_io.hpp; HDF5 files: strata/io/checkpoint.hpp) -----
+  /// Saves everything that influences future steps under "dem/...": settings, materials,
+  /// groups, boundary conditions, walls, all particle arrays in internal order, bonds and
+  /// contacts with their state and shear displacements, the Verlet-list and energy
+  /// accumulators, the break list, step and time. Needs an initialised model.
+  void save_state(StateWriter& out) const;
+  /// Replaces the whole state by a saved one (except Settings::min_particles_per_thread,
+  /// which does not change results). Stepping on gives bit-for-bit the same results as the
+  /// run that saved it. The Simulation must have the saved dimension and either no
+  /// particles or as many as were saved (e.g. rebuilt from the same scene); initialise()
+  /// is not needed. Throws strata::Error (Input) on a mismatch, (IO) on a damaged state.
+  void load_state(const StateReader& in);
 
  private:
   std::unique_ptr<detail::ModelBase> m_;
