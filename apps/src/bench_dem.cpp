@@ -12,26 +12,10 @@
 #include <cstdio>
 #include <cstring>
 
+#include <strata/core/memory.hpp>
+
 namespace strata::app {
-namespace {
-
-/// A field of /proc/self/status in bytes (VmRSS, VmHWM); 0 when unavailable.
-double proc_status_bytes(const char* key) {
-  std::FILE* f = std::fopen("/proc/self/status", "r");
-  if (!f) return 0;
-  char line[256];
-  double kb = 0;
-  const std::size_t n = std::strlen(key);
-  while (std::fgets(line, sizeof line, f))
-    if (std::strncmp(line, key, n) == 0 && line[n] == ':') {
-      kb = std::atof(line + n + 1);
-      break;
-    }
-  std::fclose(f);
-  return kb * 1024.0;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::string bench_dem_json(const BenchDemOptions& o) {
   STRATA_CHECK(o.dim == 2 || o.dim == 3, Input, "bench dem: --dim {} must be 2 or 3", o.dim);
@@ -41,7 +25,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
                o.lattice);
   if (o.threads > 0) par::set_threads(o.threads);
   const int threads = par::threads();
-  const double rss0 = proc_status_bytes("VmRSS");
+  const double rss0 = double(sys::rss_bytes());
   const auto t0 = std::chrono::steady_clock::now();
 
   // SPEC C1 micro-parameters; 3D uses the same springs with ρ in kg/m³.
@@ -96,7 +80,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   const auto t2 = std::chrono::steady_clock::now();
   const double secs = std::chrono::duration<double>(t2 - t1).count();
   const double setup = std::chrono::duration<double>(t1 - t0).count();
-  const double hwm = proc_status_bytes("VmHWM");
+  const double hwm = double(sys::peak_rss_bytes());
   const double nn = static_cast<double>(n);
   return fmt::format(
       "{{\"dim\": {}, \"lattice\": \"{}\", \"particles\": {}, \"bonds\": {}, \"steps\": {}, \"threads\": {}, "

@@ -7,19 +7,11 @@
 #include <strata/preprocess/mesh_fill.hpp>
 
 #include <chrono>
+#include <strata/core/memory.hpp>
+
 #include <cstdio>
 #include <fstream>
 #include <string>
-
-namespace {
-std::size_t peak_rss_bytes() {
-  std::ifstream f("/proc/self/status");
-  std::string line;
-  while (std::getline(f, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
-  return 0;
-}
-}  // namespace
 
 int main(int argc, char** argv) {
   using namespace strata::preprocess;
@@ -46,7 +38,7 @@ int main(int argc, char** argv) {
         "%zu}\n",
         f.lattice.size(), f.stats.seconds, double(f.lattice.size()) / f.stats.seconds, read_s,
         f.stats.elements, f.stats.candidates, f.stats.exact_tests, f.packing, strata::par::threads(),
-        peak_rss_bytes());
+        strata::sys::peak_rss_bytes());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 1;

@@ -1,0 +1,12 @@
+#pragma once
+/// Memory use of this process, for reports and benchmarks (Linux /proc/self/status).
+#include <cstddef>
+
+namespace strata::sys {
+
+/// Resident memory now (VmRSS), bytes; 0 where unavailable.
+std::size_t rss_bytes();
+/// Peak resident memory so far (VmHWM), bytes; 0 where unavailable.
+std::size_t peak_rss_bytes();
+
+}  // namespace strata::sys
