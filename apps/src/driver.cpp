@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>
+#include <strata/core/memory.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
 #include <strata/core/progress.hpp>
@@ -52,14 +53,6 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// Peak resident memory of this process (bytes), from /proc/self/status.
-std::size_t peak_rss_bytes() {
-  std::ifstream f("/proc/self/status");
-  std::string line;
-  while (std::getline(f, line))
-    if (line.rfind("VmHWM:", 0) == 0) return std::stoull(line.substr(6)) * 1024;
-  return 0;
-}
 
 scene::Scene load_scene(const SceneOptions& opt) {
   scene::Scene sc = scene::load(opt.scene, opt.overrides);
@@ -543,7 +536,7 @@ int mesh_scene(const SceneOptions& opt, bool json_out) {
     j["written"] = json::array({particles.add_particles(0.0, pc).string()});
     for (const auto& f : write_bond_histograms(bonds, opt.output)) j["written"].push_back(f.string());
   }
-  j["peak_rss_bytes"] = peak_rss_bytes();
+  j["peak_rss_bytes"] = sys::peak_rss_bytes();
   if (json_out) {
     std::printf("%s\n", j.dump(2).c_str());
   } else {
@@ -599,6 +592,9 @@ int run_scene(const SceneOptions& opt) {
     std::printf("restart      step %lld (t = %.6g s) of %s\n", (long long)first, m.sim.time(),
                 opt.restart.string().c_str());
     ckpt.reset();
+    if (first >= steps)
+      log::warn("the checkpoint is at step {}, solver.steps = {}: nothing left to run (raise solver.steps)", first,
+                steps);
   }
 
   log::info("running {} steps on {} thread(s); output in {}", steps - std::min(first, steps), par::threads(),
@@ -606,7 +602,7 @@ int run_scene(const SceneOptions& opt) {
   Progress progress("run", steps);
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] { return wall_before + seconds_since(t0); };
-  std::int64_t max_chunk = 16;  // steps per run() call, adapted to ~0.25 s so signals are seen soon
+  std::int64_t max_chunk = 4;  // steps per run() call, adapted to ~0.25 s so signals are seen soon
   const StopSignals stop;
   try {
     for (;;) {
@@ -623,7 +619,10 @@ int run_scene(const SceneOptions& opt) {
       if (const int sig = StopSignals::received()) {
         // Interrupted: the current frame, a checkpoint, what is known so far; then stop.
         progress.finish(s);
-        if (out.last_frame_step() != s) out.frame(m);
+        if (out.last_frame_step() != s) {
+          out.frame(m);
+          frame_breaks = std::int64_t(m.sim.broken_count());
+        }
         fs::path ck;
         if (STRATA_WITH_HDF5) ck = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
         out.finish(m, model, seconds_since(t0), fmt::format("interrupted by SIG{} at step {}", sigabbrev_np(sig), s));
@@ -631,8 +630,8 @@ int run_scene(const SceneOptions& opt) {
         std::printf("interrupted by SIG%s at step %lld (t = %.6g s)\n", sigabbrev_np(sig), (long long)s, m.sim.time());
         if (!frame.empty()) std::printf("  last frame  %s\n", frame.string().c_str());
         if (!ck.empty())
-          std::printf("  checkpoint  %s\n  continue with: strata run %s --restart %s\n", ck.string().c_str(),
-                      sc.file.string().c_str(), ck.string().c_str());
+          std::printf("  checkpoint  %s\n  continue with: strata run %s -o %s --restart %s\n", ck.string().c_str(),
+                      sc.file.string().c_str(), dir.string().c_str(), ck.string().c_str());
         std::fflush(stdout);
         return 128 + sig;
       }

@@ -2,8 +2,6 @@
 // the files left behind.
 #include <fcntl.h>
 #include <gtest/gtest.h>
-#include <strata/io/series.hpp>
-#include <strata/io/vtk.hpp>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -14,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -236,6 +235,10 @@ TEST(Cli, ReportWritesTheSweepTables) {
 
 // ---- checkpoints, restart, interrupted and killed runs -------------------------------------
 
+std::string check_series(const fs::path& pvd, std::size_t& frames);  // series_check.cpp
+bool have_hdf5();                                                     // series_check.cpp
+long long checkpoint_step(const fs::path& file);                      // series_check.cpp
+
 namespace {
 
 std::string read_text(const fs::path& p) {
@@ -248,7 +251,7 @@ std::string summary_field(const fs::path& dir, const std::string& key) {
   const std::string text = read_text(dir / "summary.json");
   const auto k = text.find("\"" + key + "\":");
   if (k == std::string::npos) return "<missing " + key + ">";
-  const auto b = k + key.size() + 3;
+  const auto b = text.find_first_not_of(' ', k + key.size() + 3);
   const auto e = text.find_first_of(",\n}", b);
   return text.substr(b, e - b);
 }
@@ -319,6 +322,7 @@ std::string endless_scene() {
 // Issue 5 acceptance: 2N steps straight and N + N with a restart in between give the same
 // final state (hash), break counts, probe rows and break list, bit for bit.
 TEST(Cli, RestartFromTheFinalCheckpointEqualsAStraightRun) {
+  if (!have_hdf5()) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
   const fs::path d = temp_dir("restart");
   const fs::path f = write(d, "scene.toml", breaking_scene("[output]\nframes = 2\nrender = false\n"));
   const auto straight = strata("run " + f.string() + " -o " + (d / "a").string() + " --set solver.steps=800");
@@ -341,6 +345,7 @@ TEST(Cli, RestartFromTheFinalCheckpointEqualsAStraightRun) {
 }
 
 TEST(Cli, RestartWithACheckpointOfAnotherSceneIsRefused) {
+  if (!have_hdf5()) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
   const fs::path d = temp_dir("refuse");
   const fs::path f = write(d, "scene.toml", small_scene("[output]\nframes = 0\nrender = false\n"));
   ASSERT_EQ(strata("run " + f.string() + " -o " + (d / "a").string()).status, 0);
@@ -370,12 +375,9 @@ TEST(Cli, KilledRunLeavesAPvdOfCompleteFrames) {
   ASSERT_TRUE(started) << read_text(d / "log.txt");
   ASSERT_TRUE(WIFSIGNALED(st) && WTERMSIG(st) == SIGKILL);
   for (const char* series : {"particles.pvd", "bonds.pvd"}) {
-    const auto frames = strata::io::read_pvd(d / "res" / series);
-    EXPECT_GE(frames.size(), series[0] == 'p' ? 3u : 2u) << series;
-    for (const auto& e : frames) {
-      ASSERT_TRUE(fs::exists(d / "res" / e.file)) << e.file;
-      EXPECT_NO_THROW(strata::io::read_vtp(d / "res" / e.file)) << e.file;
-    }
+    std::size_t frames = 0;
+    EXPECT_EQ(check_series(d / "res" / series, frames), "") << series;
+    EXPECT_GE(frames, series[0] == 'p' ? 3u : 2u) << series;  // bonds follow particles
   }
   fs::remove_all(d);
 }
@@ -383,6 +385,7 @@ TEST(Cli, KilledRunLeavesAPvdOfCompleteFrames) {
 // SIGINT stops a run between chunks with status 130, the current frame and a checkpoint;
 // the restart from it reaches the same state as a run that was never interrupted.
 TEST(Cli, InterruptedRunWritesACheckpointAndRestartsExactly) {
+  if (!have_hdf5()) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
   const fs::path d = temp_dir("sigint");
   const fs::path f = write(d, "scene.toml", endless_scene());
   const pid_t pid = spawn({"run", f.string(), "-o", (d / "res").string()}, d / "log.txt");
@@ -409,5 +412,85 @@ TEST(Cli, InterruptedRunWritesACheckpointAndRestartsExactly) {
   EXPECT_EQ(summary_field(d / "res", "steps_done"), steps);
   EXPECT_EQ(summary_field(d / "res", "state_hash"), summary_field(d / "straight", "state_hash"));
   EXPECT_EQ(summary_field(d / "res", "broken_tension"), summary_field(d / "straight", "broken_tension"));
+  fs::remove_all(d);
+}
+
+// Issue 5: frames by simulated time (at the nearest step, plus the first and the last) and
+// by events (every N more broken bonds, checked at probe rows).
+TEST(Cli, FramesBySimulatedTimeAndByBrokenBonds) {
+  const fs::path d = temp_dir("cadence");
+  const fs::path f = write(d, "scene.toml", breaking_scene("dt = 2e-8\n[output]\nrender = false\n"));
+  const auto by_time =
+      strata("run " + f.string() + " -o " + (d / "t").string() + " --set output.frame_every_time=3e-6");
+  ASSERT_EQ(by_time.status, 0) << by_time.output;
+  const std::string pvd = read_text(d / "t" / "particles.pvd");
+  std::vector<double> times;
+  for (auto p = pvd.find("timestep=\""); p != std::string::npos; p = pvd.find("timestep=\"", p + 1))
+    times.push_back(std::stod(pvd.substr(p + 10)));
+  const std::vector<double> expected{0, 3e-6, 6e-6, 8e-6};  // steps 0, 150, 300 and the last, 400
+  ASSERT_EQ(times.size(), expected.size()) << pvd;
+  for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(times[k], expected[k], 1e-12) << pvd;
+
+  const auto by_breaks = strata("run " + f.string() + " -o " + (d / "b").string() +
+                                " --set output.frame_every_breaks=25 --set output.probe_every=10");
+  ASSERT_EQ(by_breaks.status, 0) << by_breaks.output;
+  const long broken = std::stol(summary_field(d / "b", "broken_tension")) +
+                      std::stol(summary_field(d / "b", "broken_shear"));
+  const int frames = pvd_frames(d / "b" / "particles.pvd");
+  EXPECT_GE(broken, 50) << "the test must break bonds";
+  EXPECT_GE(frames, 3);
+  EXPECT_LE(frames, 2 + broken / 25);
+  fs::remove_all(d);
+}
+
+// The case checkpoints are for: a run killed (SIGKILL) after a periodic checkpoint is
+// continued from it; frames and probe rows written after the checkpoint are replaced, and
+// the result equals a run that was never killed.
+TEST(Cli, KilledRunContinuesFromItsLastPeriodicCheckpoint) {
+  if (!have_hdf5()) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
+  const fs::path d = temp_dir("resume");
+  std::string text = endless_scene();
+  text.replace(text.find("frames = 100000"), 15, "frames = 100000\ncheckpoint_every = 300\nprobe_every = 100");
+  const fs::path f = write(d, "scene.toml", text);
+  const pid_t pid = spawn({"run", f.string(), "-o", (d / "res").string()}, d / "log.txt");
+  ASSERT_GT(pid, 0);
+  bool ready = false;  // a checkpoint and at least one frame after it
+  for (int i = 0; i < 2000 && !ready; ++i) {
+    ready = checkpoint_step(d / "res" / "checkpoint.h5") > 0 && pvd_frames(d / "res" / "particles.pvd") >= 5;
+    if (!ready) usleep(10000);
+  }
+  kill(pid, SIGKILL);
+  int st = 0;
+  waitpid(pid, &st, 0);
+  ASSERT_TRUE(ready) << read_text(d / "log.txt");
+  const long long at = checkpoint_step(d / "res" / "checkpoint.h5");
+  ASSERT_EQ(at % 300, 0);
+
+  const std::string steps = std::to_string(at + 500);
+  const auto rest = strata("run " + f.string() + " -o " + (d / "res").string() + " --set solver.steps=" + steps +
+                           " --set output.frames=5 --restart " + (d / "res" / "checkpoint.h5").string());
+  ASSERT_EQ(rest.status, 0) << rest.output;
+  const auto straight = strata("run " + f.string() + " -o " + (d / "straight").string() +
+                               " --set output.vtk=false --set solver.steps=" + steps);
+  ASSERT_EQ(straight.status, 0) << straight.output;
+  EXPECT_EQ(summary_field(d / "res", "state_hash"), summary_field(d / "straight", "state_hash"));
+
+  std::size_t frames = 0;
+  EXPECT_EQ(check_series(d / "res" / "particles.pvd", frames), "");
+  const std::string pvd = read_text(d / "res" / "particles.pvd");
+  std::vector<double> times;
+  for (auto p = pvd.find("timestep=\""); p != std::string::npos; p = pvd.find("timestep=\"", p + 1))
+    times.push_back(std::stod(pvd.substr(p + 10)));
+  for (std::size_t k = 1; k < times.size(); ++k) EXPECT_LT(times[k - 1], times[k]) << pvd;
+  std::istringstream probes(read_text(d / "res" / "probes.csv"));
+  std::string line;
+  std::getline(probes, line);
+  long long prev = -1;
+  while (std::getline(probes, line)) {
+    const long long step = std::stoll(line);
+    EXPECT_LT(prev, step) << "probe rows must not repeat or go back";
+    prev = step;
+  }
+  EXPECT_EQ(prev, at + 500);
   fs::remove_all(d);
 }

@@ -1,0 +1,370 @@
+// Checkpoints of the DEM: Simulation::save_state / load_state.
+//
+// One description of the state (describe() below) drives both directions, so what is saved
+// and what is loaded cannot drift apart. Everything a later step reads is stored as it is in
+// memory (internal particle order, CSR pair lists, per-block accumulators, the Verlet-list
+// displacement bound), so a loaded model steps on along the same floating-point path as the
+// one that saved it. Derived data (pair-law table, thread plan) is rebuilt by state_loaded().
+#include <strata/core/error.hpp>
+#include <strata/core/state_io.hpp>
+
+#include <array>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "model.hpp"
+
+namespace strata::dem {
+namespace {
+
+using detail::BcParticle;
+using detail::BcSpec;
+using detail::BlockAcc;
+using detail::ForceHistory;
+using detail::ModelBase;
+using detail::PairList;
+using detail::StateRefs;
+using detail::Wall;
+
+/// Version of the layout below; a change of layout must raise it.
+constexpr std::int64_t kFormat = 1;
+
+/// How a member of type T is stored: bool as uint8, int and enums as int64.
+template <typename T>
+auto stored_tag() {
+  if constexpr (std::is_enum_v<T> || std::is_same_v<T, int>)
+    return std::int64_t{};
+  else if constexpr (std::is_same_v<T, bool>)
+    return std::uint8_t{};
+  else if constexpr (std::is_same_v<T, unsigned>)
+    return std::uint32_t{};
+  else
+    return T{};
+}
+template <typename T>
+using Stored = decltype(stored_tag<T>());
+
+/// Number of elements of a member: C arrays and std::array have several, scalars one.
+template <typename M>
+struct Extent {
+  using Elem = M;
+  static constexpr std::size_t n = 1;
+  static Elem& at(M& m, std::size_t) { return m; }
+};
+template <typename E, std::size_t N>
+struct Extent<E[N]> {
+  using Elem = E;
+  static constexpr std::size_t n = N;
+  static Elem& at(E (&m)[N], std::size_t k) { return m[k]; }
+};
+template <typename E, std::size_t N>
+struct Extent<std::array<E, N>> {
+  using Elem = E;
+  static constexpr std::size_t n = N;
+  static Elem& at(std::array<E, N>& m, std::size_t k) { return m[k]; }
+};
+
+/// Writes the state described by describe().
+struct Saver {
+  static constexpr bool kLoading = false;
+  StateWriter& w;
+
+  template <typename T>
+  void scalar(const std::string& name, T& value) {
+    w.put_scalar<Stored<T>>("dem/" + name, static_cast<Stored<T>>(value));
+  }
+  template <typename T>
+  void vec(const std::string& name, std::vector<T>& values) {
+    w.put("dem/" + name, values);
+  }
+  void strings(const std::string& name, std::vector<std::string>& values) {
+    std::vector<std::uint32_t> len;
+    std::string all;
+    for (const auto& s : values) {
+      len.push_back(static_cast<std::uint32_t>(s.size()));
+      all += s;
+    }
+    w.put("dem/" + name + "/length", len);
+    w.put_string("dem/" + name + "/text", all);
+  }
+  /// Rows of a struct stored as one array per member ("columns").
+  template <typename S, typename Fn>
+  void table(const std::string& name, std::vector<S>& rows, Fn&& columns) {
+    w.put_scalar<std::int64_t>("dem/" + name + "/count", static_cast<std::int64_t>(rows.size()));
+    columns([&](const char* col, auto S::*member) {
+      using M = std::remove_reference_t<decltype(rows[0].*member)>;
+      using X = Extent<M>;
+      using St = Stored<typename X::Elem>;
+      std::vector<St> out;
+      out.reserve(rows.size() * X::n);
+      for (S& r : rows)
+        for (std::size_t k = 0; k < X::n; ++k) out.push_back(static_cast<St>(X::at(r.*member, k)));
+      w.put("dem/" + name + "/" + col, out);
+    });
+  }
+};
+
+/// Reads the state described by describe(), checking element types and counts.
+struct Loader {
+  static constexpr bool kLoading = true;
+  const StateReader& r;
+
+  template <typename T>
+  void scalar(const std::string& name, T& value) {
+    value = static_cast<T>(r.get_scalar<Stored<T>>("dem/" + name));
+  }
+  template <typename T>
+  void vec(const std::string& name, std::vector<T>& values) {
+    values = r.get<T>("dem/" + name);
+  }
+  void strings(const std::string& name, std::vector<std::string>& values) {
+    const auto len = r.get<std::uint32_t>("dem/" + name + "/length");
+    const std::string all = r.get_string("dem/" + name + "/text");
+    values.clear();
+    std::size_t pos = 0;
+    for (const auto l : len) {
+      STRATA_CHECK(pos + l <= all.size(), IO, "state 'dem/{}': lengths exceed the text", name);
+      values.push_back(all.substr(pos, l));
+      pos += l;
+    }
+  }
+  template <typename S, typename Fn>
+  void table(const std::string& name, std::vector<S>& rows, Fn&& columns) {
+    const auto count = r.get_scalar<std::int64_t>("dem/" + name + "/count");
+    STRATA_CHECK(count >= 0, IO, "state 'dem/{}/count' = {} is negative", name, count);
+    rows.assign(static_cast<std::size_t>(count), S{});
+    columns([&](const char* col, auto S::*member) {
+      using M = std::remove_reference_t<decltype(rows[0].*member)>;
+      using X = Extent<M>;
+      using St = Stored<typename X::Elem>;
+      const auto in = r.get<St>("dem/" + name + "/" + col, rows.size() * X::n);
+      for (std::size_t i = 0; i < rows.size(); ++i)
+        for (std::size_t k = 0; k < X::n; ++k)
+          X::at(rows[i].*member, k) = static_cast<typename X::Elem>(in[i * X::n + k]);
+    });
+  }
+};
+
+template <typename Io>
+void pair_list(Io& io, const std::string& name, PairList& L) {
+  io.vec(name + "/offsets", L.off);
+  io.vec(name + "/partner", L.j);
+  io.vec(name + "/state", L.st);
+  io.vec(name + "/shear_displacement", L.us);
+}
+
+/// The whole state, in one place for both directions.
+template <typename Io>
+void describe(Io& io, ModelBase& m, const StateRefs& s) {
+  // settings (min_particles_per_thread is a performance knob that does not change results)
+  Settings& st = m.settings;
+  io.scalar("settings/dt", st.dt);
+  io.scalar("settings/allow_unstable", st.allow_unstable);
+  io.scalar("settings/damping", st.damping);
+  io.scalar("settings/viscous_c", st.viscous_c);
+  io.scalar("settings/local_alpha", st.local_alpha);
+  std::vector<double> g(st.gravity.begin(), st.gravity.end());
+  io.vec("settings/gravity", g);
+  if constexpr (Io::kLoading) {
+    STRATA_CHECK(g.size() == 3, IO, "state 'dem/settings/gravity' has {} components, expected 3", g.size());
+    for (int a = 0; a < 3; ++a) st.gravity[a] = g[a];
+  }
+  io.scalar("settings/contact_detection", st.contact_detection);
+  io.scalar("settings/energy_check_every", st.energy_check_every);
+  io.scalar("settings/skin", st.skin);
+
+  // model definition: materials, groups, boundary conditions, walls
+  io.table("materials", m.materials, [](auto&& col) {
+    col("density", &Material::density);
+    col("kn", &Material::kn);
+    col("ks", &Material::ks);
+    col("friction", &Material::friction);
+    col("tensile_strength", &Material::tensile_strength);
+    col("shear_strength", &Material::shear_strength);
+    col("friction_strengthens_bonds", &Material::friction_strengthens_bonds);
+  });
+  io.strings("groups", m.group_names);
+  io.table("boundary_specs", m.bc_specs, [](auto&& col) {
+    col("kind", &BcSpec::kind);
+    col("mask", &BcSpec::mask);
+    col("axes", &BcSpec::axes);
+    col("value", &BcSpec::value);
+    col("every", &BcSpec::every);
+    col("history", &BcSpec::history);
+  });
+  std::int64_t nhist = static_cast<std::int64_t>(m.histories.size());
+  io.scalar("force_histories/count", nhist);
+  if constexpr (Io::kLoading) {
+    STRATA_CHECK(nhist >= 0, IO, "state 'dem/force_histories/count' = {} is negative", nhist);
+    m.histories.assign(static_cast<std::size_t>(nhist), ForceHistory{});
+  }
+  for (std::size_t h = 0; h < m.histories.size(); ++h) {
+    ForceHistory& fh = m.histories[h];
+    const std::string p = "force_histories/" + std::to_string(h);
+    io.vec(p + "/time", fh.t);
+    std::vector<double> flat;
+    for (const auto& f : fh.f) flat.insert(flat.end(), f.begin(), f.end());
+    io.vec(p + "/force", flat);
+    if constexpr (Io::kLoading) {
+      STRATA_CHECK(flat.size() == 3 * fh.t.size(), IO, "state 'dem/{}': {} forces for {} times", p,
+                   flat.size() / 3, fh.t.size());
+      fh.f.resize(fh.t.size());
+      for (std::size_t k = 0; k < fh.f.size(); ++k)
+        for (int a = 0; a < 3; ++a) fh.f[k][a] = flat[3 * k + a];
+    }
+  }
+  io.table("walls", m.walls, [](auto&& col) {
+    col("point", &Wall::p);  // moves with the wall's velocity every step
+    col("normal", &Wall::n);
+    col("velocity", &Wall::v);
+    col("stiffness", &Wall::k);
+  });
+
+  // particles (internal, spatially sorted order; id maps back to insertion order)
+  static const char* kAxis[3] = {"x", "y", "z"};
+  for (int a = 0; a < s.dim; ++a) {
+    io.vec(std::string("particles/position/") + kAxis[a], *s.x[a]);
+    io.vec(std::string("particles/velocity/") + kAxis[a], *s.v[a]);
+    io.vec(std::string("particles/start_position/") + kAxis[a], *s.x0[a]);
+    io.vec(std::string("particles/force_accumulator/") + kAxis[a], *s.f[a]);
+  }
+  io.vec("particles/inverse_mass", *s.im);
+  io.vec("particles/radius", *s.rad);
+  io.vec("particles/id", *s.id);
+  io.vec("particles/group_bits", *s.grp);
+  io.vec("particles/material", *s.mat);
+  io.vec("particles/flags", *s.flags);
+
+  // bonds and contacts (CSR by owner) with their state and shear displacement Us
+  pair_list(io, "bonds", *s.bonds);
+  pair_list(io, "contacts", *s.contacts);
+
+  // per-particle boundary-condition records: trapezoid-rule history of the reaction work
+  io.table("boundary_particles", *s.bcp, [](auto&& col) {
+    col("index", &BcParticle::index);
+    col("mode", &BcParticle::mode);
+    col("value", &BcParticle::value);
+    col("every", &BcParticle::every);
+    col("history", &BcParticle::history);
+    col("dx_prev", &BcParticle::dx_prev);
+    col("f_int", &BcParticle::f_int);
+    col("w_ahead", &BcParticle::w_ahead);
+  });
+  // per-block accumulators: work and dissipation are summed per block, in block order
+  io.table("blocks", *s.acc, [](auto&& col) {
+    col("work", &BlockAcc::work);
+    col("dissipated", &BlockAcc::dissipated);
+    col("kinetic_energy", &BlockAcc::ke);
+    col("stored_energy", &BlockAcc::eb);
+    col("vmax2", &BlockAcc::vmax2);
+  });
+  io.table("breaks", *s.events, [](auto&& col) {
+    col("step", &BreakEvent::step);
+    col("position", &BreakEvent::position);
+    col("mode", &BreakEvent::mode);
+    col("id_i", &BreakEvent::id_i);
+    col("id_j", &BreakEvent::id_j);
+  });
+
+  // run state
+  io.scalar("run/step", *s.step);
+  io.scalar("run/last_good_step", *s.last_good);
+  io.scalar("run/time", *s.time);
+  io.scalar("run/dt_crit", *s.dt_crit);
+  io.scalar("run/lambda_estimate", *s.lam_est);
+  io.scalar("run/lambda_bound", *s.lam_bound);
+  io.scalar("run/energy_budget0", *s.energy_budget0);
+  io.scalar("run/energy_tiny", *s.energy_tiny);
+  io.scalar("run/skin", *s.skin);
+  io.scalar("run/displacement_bound", *s.disp_bound);  // Verlet-list rebuild counter
+  io.scalar("run/bcs_dirty", *s.bcs_dirty);
+  io.scalar("run/energy_valid", *s.energy_valid);
+  io.scalar("run/budget_dirty", *s.budget_dirty);
+  io.scalar("run/contact_detection_on", *s.contacts_on);
+}
+
+/// A loaded state must be self-consistent before any step indexes with it.
+void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
+  const int kns = s.dim == 2 ? 1 : 3;
+  auto same = [&](std::size_t size, const char* what, std::size_t expected) {
+    STRATA_CHECK(size == expected, IO, "damaged state: {} has {} entries, expected {}", what, size, expected);
+  };
+  for (int a = 0; a < s.dim; ++a) {
+    same(s.x[a]->size(), "particles/position", n);
+    same(s.v[a]->size(), "particles/velocity", n);
+    same(s.x0[a]->size(), "particles/start_position", n);
+    same(s.f[a]->size(), "particles/force_accumulator", n);
+  }
+  same(s.im->size(), "particles/inverse_mass", n);
+  same(s.rad->size(), "particles/radius", n);
+  same(s.grp->size(), "particles/group_bits", n);
+  same(s.mat->size(), "particles/material", n);
+  same(s.flags->size(), "particles/flags", n);
+  std::vector<char> seen(n, 0);
+  for (const auto k : *s.id) {
+    STRATA_CHECK(k < n && !seen[k], IO, "damaged state: particle ids are not a permutation of 0..{}", n - 1);
+    seen[k] = 1;
+  }
+  for (const auto k : *s.mat)
+    STRATA_CHECK(k < m.materials.size(), IO, "damaged state: material {} of {}", k, m.materials.size());
+  for (const PairList* L : {s.bonds, s.contacts}) {
+    same(L->off.size(), "pair offsets", n + 1);
+    same(L->st.size(), "pair states", L->j.size());
+    same(L->us.size(), "pair shear displacements", L->j.size() * kns);
+    STRATA_CHECK(L->off.front() == 0 && L->off.back() == L->j.size(), IO, "damaged state: pair offsets");
+    for (std::size_t p = 0; p < n; ++p) {
+      STRATA_CHECK(L->off[p] <= L->off[p + 1], IO, "damaged state: pair offsets are not ascending");
+      for (std::uint32_t k = L->off[p]; k < L->off[p + 1]; ++k)
+        STRATA_CHECK(L->j[k] > p && L->j[k] < n, IO, "damaged state: pair ({}, {})", p, L->j[k]);
+    }
+  }
+  same(s.acc->size(), "blocks", (n + detail::kBlock - 1) / detail::kBlock);
+  for (const BcParticle& b : *s.bcp) {
+    STRATA_CHECK(b.index < n, IO, "damaged state: boundary record of particle {}", b.index);
+    STRATA_CHECK(b.history < static_cast<int>(m.histories.size()), IO, "damaged state: force history {}",
+                 b.history);
+  }
+  for (const BcSpec& b : m.bc_specs)
+    STRATA_CHECK(b.history < static_cast<int>(m.histories.size()), IO, "damaged state: force history {}",
+                 b.history);
+}
+
+}  // namespace
+
+void Simulation::save_state(StateWriter& out) const {
+  const StateRefs s = m_->state_refs();
+  STRATA_CHECK(*s.initialised, Input, "save_state: call initialise() first");
+  out.put_scalar<std::int64_t>("dem/format", kFormat);
+  out.put_scalar<std::int64_t>("dem/dimension", s.dim);
+  out.put_scalar<std::int64_t>("dem/particles/count", static_cast<std::int64_t>(m_->particle_count()));
+  Saver saver{out};  // describe() takes references for both directions; the Saver only reads
+  describe(saver, *m_, s);
+}
+
+void Simulation::load_state(const StateReader& in) {
+  STRATA_CHECK(in.has("dem/format"), IO, "the state holds no DEM model (no 'dem/format')");
+  const auto format = in.get_scalar<std::int64_t>("dem/format");
+  STRATA_CHECK(format == kFormat, Input, "the state has DEM format {}; this strata reads format {}", format,
+               kFormat);
+  const auto dim = in.get_scalar<std::int64_t>("dem/dimension");
+  STRATA_CHECK(dim == m_->dim(), Input, "the state is of a {}D model, this model is {}D", dim, m_->dim());
+  const auto count = in.get_scalar<std::int64_t>("dem/particles/count");
+  const std::size_t have = m_->particle_count();
+  STRATA_CHECK(have == 0 || static_cast<std::int64_t>(have) == count, Input,
+               "the state holds {} particles, this model {}", count, have);
+  STRATA_CHECK(count >= 0, IO, "damaged state: {} particles", count);
+
+  // Load into a fresh model of the same dimension, so a failure leaves this one untouched.
+  std::unique_ptr<detail::ModelBase> fresh =
+      m_->dim() == 2 ? detail::make_model<2>(m_->settings) : detail::make_model<3>(m_->settings);
+  const StateRefs s = fresh->state_refs();
+  Loader loader{in};
+  describe(loader, *fresh, s);
+  check_loaded(*fresh, s, static_cast<std::size_t>(count));
+  *s.initialised = true;
+  fresh->state_loaded();
+  m_ = std::move(fresh);
+}
+
+}  // namespace strata::dem

@@ -1,0 +1,308 @@
+// Checkpoint and restart: 2N steps straight and N + save + load into a new Simulation + N
+// must give the same bits (state hash, energies, work, dissipation, break list), in memory
+// and through an HDF5 file; wrong checkpoints are refused with a clear message.
+#include <strata/config.hpp>
+#include <strata/core/error.hpp>
+#include <strata/core/parallel.hpp>
+#include <strata/core/state_io.hpp>
+#include <strata/dem/simulation.hpp>
+#include <strata/io/checkpoint.hpp>
+#include <strata/io/csv.hpp>
+#include <strata/preprocess/lattice.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <fstream>
+#include <random>
+
+using namespace strata;
+using namespace strata::dem;
+namespace fs = std::filesystem;
+
+namespace {
+
+Material c1_material() {  // SPEC C1 micro-parameters, breakable
+  Material m;
+  m.density = 2.65e3;
+  m.kn = 6.587e10;
+  m.ks = 2.371e10;
+  m.friction = 0.239;
+  m.tensile_strength = 1.252e4;
+  m.shear_strength = 3.690e4;
+  return m;
+}
+constexpr double kD = 1e-3;
+
+/// 2D: a C1 block squeezed fast between two platen rows so that bonds break and contacts
+/// form within a few hundred steps (viscous damping, contact detection, Verlet rebuilds).
+Simulation build_2d() {
+  const preprocess::Lattice lat = preprocess::hex2d_rows(30, 28, kD);
+  Simulation sim(2, Settings{.dt = 1e-12, .damping = Settings::Damping::Viscous, .viscous_c = 1.16e3,
+                             .energy_check_every = 100, .min_particles_per_thread = 1});
+  const int mat = sim.add_material(c1_material());
+  for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
+  sim.add_to_group(preprocess::top_row(lat), "top");
+  sim.add_to_group(preprocess::bottom_row(lat), "bottom");
+  sim.prescribe_velocity("top", {0, -2.0, 0}, kY);
+  sim.prescribe_velocity("bottom", {0, 2.0, 0}, kY);
+  sim.bond_touching_pairs();
+  sim.initialise();
+  sim.set_dt(0.5 * sim.critical_dt());
+  return sim;
+}
+
+/// 3D: the other kinds of state — step displacement of the top (per-particle trapezoid
+/// work history), a force history on the bottom, a moving wall, gravity, local damping.
+Simulation build_3d() {
+  const preprocess::Lattice lat =
+      preprocess::close_packed_box(preprocess::Packing::FCC, {0, 0, 0}, {6e-3, 6e-3, 6e-3}, kD);
+  Simulation sim(3, Settings{.dt = 1e-12, .damping = Settings::Damping::Local, .local_alpha = 0.3,
+                             .gravity = {0, 0, -9.81}, .energy_check_every = 50,
+                             .min_particles_per_thread = 1});
+  const int mat = sim.add_material(c1_material());
+  double xmax = -1;
+  for (const auto& p : lat.x) {
+    sim.add_particle(p, lat.radius, mat);
+    xmax = std::max(xmax, p[0]);
+  }
+  sim.add_to_group(preprocess::top_row(lat), "top");
+  sim.add_to_group(preprocess::bottom_row(lat), "bottom");
+  sim.fix("bottom", kZ);
+  sim.step_displacement("top", {0, 0, -2e-6}, 7);
+  sim.force_history("bottom", {0.0, 1e-6}, {{0, 0, 0}, {50.0, 0, 0}});
+  sim.add_wall({xmax + lat.radius * 0.999, 0, 0}, {-1, 0, 0}, {-2.0, 0, 0}, 1e8);
+  sim.bond_touching_pairs();
+  sim.initialise();
+  sim.set_dt(0.5 * sim.critical_dt());
+  return sim;
+}
+
+struct Outcome {
+  std::uint64_t hash;
+  std::int64_t step;
+  double time, ke, eb, work, diss;
+  std::size_t broken, contacts;
+  std::int64_t last_good;
+  std::vector<BreakEvent> breaks;
+  std::array<double, 3> top_force;
+};
+
+Outcome outcome(const Simulation& s) {
+  return {s.state_hash(),        s.step_count(),   s.time(),          s.kinetic_energy(),
+          s.bond_energy(),       s.external_work(), s.damping_dissipation(), s.broken_count(),
+          s.contact_count(),     s.last_good_step(), s.breaks(),        s.group_force("top")};
+}
+
+void expect_same(const Outcome& a, const Outcome& b) {
+  // exact equality: the restart must continue along the same floating-point path
+  EXPECT_EQ(a.hash, b.hash);
+  EXPECT_EQ(a.step, b.step);
+  EXPECT_EQ(a.time, b.time);
+  EXPECT_EQ(a.ke, b.ke);
+  EXPECT_EQ(a.eb, b.eb);
+  EXPECT_EQ(a.work, b.work);
+  EXPECT_EQ(a.diss, b.diss);
+  EXPECT_EQ(a.broken, b.broken);
+  EXPECT_EQ(a.contacts, b.contacts);
+  EXPECT_EQ(a.last_good, b.last_good);
+  EXPECT_EQ(a.top_force, b.top_force);
+  ASSERT_EQ(a.breaks.size(), b.breaks.size());
+  for (std::size_t k = 0; k < a.breaks.size(); ++k) {
+    EXPECT_EQ(a.breaks[k].step, b.breaks[k].step);
+    EXPECT_EQ(a.breaks[k].id_i, b.breaks[k].id_i);
+    EXPECT_EQ(a.breaks[k].id_j, b.breaks[k].id_j);
+    EXPECT_EQ(a.breaks[k].mode, b.breaks[k].mode);
+    EXPECT_EQ(a.breaks[k].position, b.breaks[k].position);
+  }
+}
+
+fs::path temp_file(const std::string& name) {
+  return fs::temp_directory_path() / ("strata_ckpt_" + std::to_string(std::random_device{}()) + "_" + name);
+}
+
+/// Runs 2N steps straight and N, save, load into a rebuilt Simulation, N more on
+/// `threads_after` threads (the results do not depend on the thread count; two threads
+/// spin-wait at every step, which is slow on a loaded machine, so most runs use one);
+/// `store` saves and loads (memory or HDF5).
+void restart_equality(const std::function<Simulation()>& build, std::int64_t n,
+                      const std::function<void(const Simulation&, Simulation&)>& store, bool must_break,
+                      int threads_after = 1) {
+  par::set_threads(1);
+  Simulation straight = build();
+  straight.run(n);
+  const std::size_t broken_at_n = straight.broken_count();
+  straight.run(n);
+  const Outcome a = outcome(straight);
+  if (must_break) {
+    EXPECT_GT(broken_at_n, 0u) << "the first half must break bonds";
+    EXPECT_GT(a.broken, broken_at_n) << "the second half must break bonds";
+    EXPECT_GT(a.contacts, 0u) << "the test must exercise contacts";
+  }
+
+  Simulation first = build();
+  first.run(n);
+  Simulation second = build();  // rebuilt from the same description, as the driver does
+  store(first, second);
+  par::set_threads(threads_after);
+  second.run(n);
+  par::set_threads(0);
+  expect_same(outcome(second), a);
+}
+
+void via_memory(const Simulation& from, Simulation& to) {
+  MemoryState m;
+  from.save_state(m);
+  to.load_state(m);
+}
+
+void via_hdf5(const Simulation& from, Simulation& to) {
+  const fs::path f = temp_file("state.h5");
+  {
+    io::CheckpointWriter w(f, {"test", "fingerprint", from.dim(), from.particle_count(), from.step_count(),
+                               from.time()});
+    from.save_state(w);
+    w.commit();
+  }
+  EXPECT_FALSE(fs::exists(f.string() + ".tmp"));
+  {
+    io::CheckpointReader r(f);
+    EXPECT_EQ(r.info().fingerprint, "fingerprint");
+    EXPECT_EQ(r.info().step, from.step_count());
+    EXPECT_EQ(r.info().dimension, from.dim());
+    to.load_state(r);
+  }
+  fs::remove(f);
+}
+
+}  // namespace
+
+TEST(Checkpoint, RestartInMemoryIsBitIdentical2D) { restart_equality(build_2d, 300, via_memory, true, 2); }
+
+// 147: the checkpoint falls right after a step-displacement jump (every 7 steps), when the
+// trapezoid-rule work history of the top particles is not zero.
+TEST(Checkpoint, RestartInMemoryIsBitIdentical3D) { restart_equality(build_3d, 147, via_memory, false); }
+
+TEST(Checkpoint, RestartThroughHdf5IsBitIdentical2D) {
+  if (!STRATA_WITH_HDF5) GTEST_SKIP() << "built without HDF5";
+  restart_equality(build_2d, 300, via_hdf5, true);
+}
+
+TEST(Checkpoint, RestartThroughHdf5IsBitIdentical3D) {
+  if (!STRATA_WITH_HDF5) GTEST_SKIP() << "built without HDF5";
+  restart_equality(build_3d, 147, via_hdf5, false);
+}
+
+// A checkpoint needs no rebuilt model: an empty Simulation of the same dimension takes it.
+TEST(Checkpoint, LoadsIntoAnEmptySimulation) {
+  par::set_threads(1);
+  Simulation a = build_2d();
+  a.run(100);
+  MemoryState m;
+  a.save_state(m);
+  a.run(100);
+  Simulation b(2, Settings{.min_particles_per_thread = 1});
+  b.load_state(m);
+  EXPECT_EQ(b.particle_count(), a.particle_count());
+  EXPECT_EQ(b.dt(), a.dt());
+  EXPECT_EQ(b.group_members("top"), a.group_members("top"));
+  b.run(100);
+  EXPECT_EQ(b.state_hash(), a.state_hash());
+  par::set_threads(0);
+}
+
+TEST(Checkpoint, RefusesAnotherDimensionOrParticleCount) {
+  Simulation a = build_2d();
+  MemoryState m;
+  a.save_state(m);
+  Simulation three(3, Settings{});
+  try {
+    three.load_state(m);
+    FAIL() << "a 2D state loaded into a 3D model";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Input);
+    EXPECT_NE(std::string(e.what()).find("2D model, this model is 3D"), std::string::npos) << e.what();
+  }
+  Simulation other(2, Settings{.dt = 1e-9});
+  other.add_particle({0, 0, 0}, 5e-4, other.add_material(c1_material()));
+  try {
+    other.load_state(m);
+    FAIL() << "a state loaded into a model with another particle count";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Input);
+    EXPECT_NE(std::string(e.what()).find("this model 1"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(other.particle_count(), 1u) << "a refused load must leave the model as it was";
+}
+
+TEST(Checkpoint, Hdf5FilesAreCheckedOnOpening) {
+  if (!STRATA_WITH_HDF5) {
+    EXPECT_THROW(io::CheckpointReader("x.h5"), Error);
+    return;
+  }
+  EXPECT_THROW(io::CheckpointReader(temp_file("missing.h5")), Error);
+  const fs::path text = temp_file("not_hdf5.h5");
+  std::ofstream(text) << "not a checkpoint\n";
+  try {
+    io::CheckpointReader r(text);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("not a strata checkpoint"), std::string::npos) << e.what();
+  }
+  fs::remove(text);
+  // an uncommitted writer leaves nothing behind
+  const fs::path f = temp_file("uncommitted.h5");
+  {
+    io::CheckpointWriter w(f, {});
+    w.put_scalar<double>("a/b", 1.0);
+  }
+  EXPECT_FALSE(fs::exists(f));
+  EXPECT_FALSE(fs::exists(f.string() + ".tmp"));
+  // types and counts are checked
+  {
+    io::CheckpointWriter w(f, {"v", "fp", 2, 0, 0, 0});
+    w.put_scalar<double>("a/b", 1.5);
+    w.put<std::uint32_t>("a/ids", {});
+    w.commit();
+  }
+  io::CheckpointReader r(f);
+  EXPECT_EQ(r.get_scalar<double>("a/b"), 1.5);
+  EXPECT_TRUE(r.get<std::uint32_t>("a/ids").empty());
+  EXPECT_TRUE(r.has("a/b"));
+  EXPECT_FALSE(r.has("a/c"));
+  EXPECT_FALSE(r.has("x/y/z"));
+  EXPECT_THROW(r.get<std::int64_t>("a/b"), Error);
+  EXPECT_THROW(r.get<double>("a/missing"), Error);
+  fs::remove(f);
+}
+
+// probes.csv on a restart: rows after the checkpoint's step (and a row cut short by a kill)
+// are dropped, new rows follow; another file's columns are refused.
+TEST(Checkpoint, CsvAppendKeepsRowsUpToTheCheckpoint) {
+  const fs::path f = temp_file("probes.csv");
+  std::ofstream(f) << "step,value\n0,1.5\n10,2.5\n20,3.5\n30,4";  // last row cut short
+  {
+    io::CsvWriter w = io::CsvWriter::append(f, {"step", "value"}, 10);
+    EXPECT_EQ(w.rows(), 2u);
+    w.row({20, 7.25});
+    w.close();
+  }
+  const io::CsvTable t = io::read_csv(f);
+  EXPECT_EQ(t.column("step"), (std::vector<double>{0, 10, 20}));
+  EXPECT_EQ(t.column("value"), (std::vector<double>{1.5, 2.5, 7.25}));
+  try {
+    io::CsvWriter::append(f, {"step", "other"}, 10);
+    FAIL() << "a file with other columns was continued";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Input);
+  }
+  fs::remove(f);
+  io::CsvWriter fresh = io::CsvWriter::append(f, {"step"}, 0);  // no file: a new one
+  fresh.row({1});
+  fresh.close();
+  EXPECT_EQ(io::read_csv(f).rows(), 1u);
+  fs::remove(f);
+}
