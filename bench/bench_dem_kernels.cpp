@@ -54,8 +54,9 @@ void BM_Step(benchmark::State& state) {
   par::set_threads(threads);
   const double d = 1e-3;
   const double side = preprocess::box_side_for(dim, 100000, d);
-  const auto lat = dim == 2 ? preprocess::hex2d_box(0, 0, side, side, d)
-                            : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {side, side, side}, d);
+  const auto lat =
+      dim == 2 ? preprocess::hex2d_box(0, 0, side, side, d)
+               : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {side, side, side}, d);
   dem::Settings s;
   s.dt = 1e-15;
   dem::Simulation sim(dim, s);

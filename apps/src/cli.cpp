@@ -130,16 +130,20 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"serial", "parallel", "both"}));
   report->add_option("--dt-dem", rep.dt_dem, "DEM step (s); default 1e-4 (chain6), 5e-5 (metamaterial)")
       ->check(CLI::NonNegativeNumber);
-  report->add_option("--duration", rep.duration, "Simulated time (s); default 20 (chain6), 0.075 (metamaterial)")
+  report
+      ->add_option("--duration", rep.duration,
+                   "Simulated time (s); default 20 (chain6), 0.075 (metamaterial)")
       ->check(CLI::NonNegativeNumber);
-  report->add_option("--fem-scheme", rep.fem_scheme, "central-difference, explicit-newmark or implicit-newmark")
+  report
+      ->add_option("--fem-scheme", rep.fem_scheme, "central-difference, explicit-newmark or implicit-newmark")
       ->check(CLI::IsMember({"central-difference", "explicit-newmark", "pc-newmark", "implicit-newmark"}));
   report->add_option("--dt-ref", rep.dt_ref, "Reference step of the metamaterial case (s)")
       ->check(CLI::PositiveNumber);
   report->add_option("--pulse", rep.pulse_amplitude, "Metamaterial half-sine pulse amplitude (N)");
   report->add_option("--pulse-duration", rep.pulse_duration, "Metamaterial pulse duration (s)")
       ->check(CLI::PositiveNumber);
-  report->add_option("--repeats", rep.repeats, "Runs per point; the fastest is reported")->check(CLI::PositiveNumber);
+  report->add_option("--repeats", rep.repeats, "Runs per point; the fastest is reported")
+      ->check(CLI::PositiveNumber);
   report->add_flag("--check", rep.check_only, "Only check the time step (exit 2 when unstable)");
   report->add_flag("--no-plot", rep.no_plot, "Do not write the PNG plot");
   report->footer(

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>
-#include <strata/core/memory.hpp>
 #include <strata/core/log.hpp>
+#include <strata/core/memory.hpp>
 #include <strata/core/parallel.hpp>
 #include <strata/core/progress.hpp>
 #include <strata/core/state_io.hpp>
@@ -52,7 +52,6 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
-
 
 scene::Scene load_scene(const SceneOptions& opt) {
   scene::Scene sc = scene::load(opt.scene, opt.overrides);
@@ -206,8 +205,9 @@ class RunOutput {
     summary["wall_seconds"] = run_seconds;
     // this process's steps (a restart continues from first_step_)
     summary["particle_steps_per_s"] =
-        run_seconds > 0 ? double(m.sim.particle_count()) * double(m.sim.step_count() - first_step_) / run_seconds
-                        : 0.0;
+        run_seconds > 0
+            ? double(m.sim.particle_count()) * double(m.sim.step_count() - first_step_) / run_seconds
+            : 0.0;
     if (first_step_ > 0) summary["restarted_at_step"] = first_step_;
     summary["state_hash"] = fmt::format("{:016x}", m.sim.state_hash());
     summary["broken_tension"] = m.sim.broken_count(dem::BreakMode::Tension);
@@ -306,7 +306,6 @@ class RunOutput {
   std::int64_t first_step_ = 0;
 };
 
-
 // ---- checkpoints and restart --------------------------------------------------------------
 
 /// Fingerprint of a validated scene: FNV-1a of a canonical text of every key (defaults
@@ -331,7 +330,8 @@ std::string scene_fingerprint(const scene::Scene& sc) {
     for (const scene::Table& t : *list) {
       mix(t.label());
       for (const scene::KeySpec& k : spec.keys) {
-        if (spec.name == "solver" && (k.name == "steps" || k.name == "duration" || k.name == "threads")) continue;
+        if (spec.name == "solver" && (k.name == "steps" || k.name == "duration" || k.name == "threads"))
+          continue;
         mix(k.name);
         if (!t.has(k.name)) {
           mix("<none>");
@@ -339,19 +339,31 @@ std::string scene_fingerprint(const scene::Scene& sc) {
         }
         using T = scene::Type;
         switch (k.type) {
-          case T::Bool: mix(t.boolean(k.name) ? "true" : "false"); break;
-          case T::Integer: mix(fmt::format("{}", t.integer(k.name))); break;
-          case T::Real: mix(fmt::format("{}", t.real(k.name))); break;
+          case T::Bool:
+            mix(t.boolean(k.name) ? "true" : "false");
+            break;
+          case T::Integer:
+            mix(fmt::format("{}", t.integer(k.name)));
+            break;
+          case T::Real:
+            mix(fmt::format("{}", t.real(k.name)));
+            break;
           case T::String:
           case T::Choice:
-          case T::OutputPath: mix(t.str(k.name)); break;
+          case T::OutputPath:
+            mix(t.str(k.name));
+            break;
           case T::Path: {  // contents, so that a moved scene folder keeps its fingerprint
             std::ifstream f(t.str(k.name), std::ios::binary);
             mix(std::string(std::istreambuf_iterator<char>(f), {}));
             break;
           }
-          case T::RealList: mix(fmt::format("{}", fmt::join(t.reals(k.name), ","))); break;
-          case T::StringList: mix(fmt::format("{}", fmt::join(t.strings(k.name), ","))); break;
+          case T::RealList:
+            mix(fmt::format("{}", fmt::join(t.reals(k.name), ",")));
+            break;
+          case T::StringList:
+            mix(fmt::format("{}", fmt::join(t.strings(k.name), ",")));
+            break;
           case T::RealTable:
             for (const auto& row : t.real_table(k.name)) mix(fmt::format("{}", fmt::join(row, ",")));
             break;
@@ -390,8 +402,8 @@ std::unique_ptr<io::CheckpointReader> open_checkpoint(const fs::path& file, cons
 fs::path write_checkpoint(const fs::path& dir, const BuiltModel& m, const std::string& fingerprint,
                           const RunOutput& out, std::int64_t frame_breaks, double wall_seconds) {
   const fs::path file = dir / "checkpoint.h5";
-  io::CheckpointWriter w(file, {STRATA_VERSION, fingerprint, m.dim, m.sim.particle_count(), m.sim.step_count(),
-                                m.sim.time()});
+  io::CheckpointWriter w(
+      file, {STRATA_VERSION, fingerprint, m.dim, m.sim.particle_count(), m.sim.step_count(), m.sim.time()});
   m.sim.save_state(w);
   out.save(w);
   w.put_scalar<std::int64_t>("driver/frame_breaks", frame_breaks);
@@ -451,7 +463,8 @@ struct Cadence {
 
   Cadence(const scene::Table& o, std::int64_t total_steps, double time_step)
       : steps(total_steps), dt(time_step) {
-    probe_every = o.integer("probe_every") > 0 ? o.integer("probe_every") : std::max<std::int64_t>(1, steps / 2000);
+    probe_every =
+        o.integer("probe_every") > 0 ? o.integer("probe_every") : std::max<std::int64_t>(1, steps / 2000);
     checkpoint_every = o.integer("checkpoint_every");
     if (o.integer("frame_every_breaks") > 0) {
       frames = Frames::Breaks;
@@ -477,8 +490,10 @@ struct Cadence {
 
   bool frame_due(std::int64_t s, std::size_t broken, std::size_t broken_at_last_frame) const {
     switch (frames) {
-      case Frames::None: return false;
-      case Frames::Steps: return s % frame_every == 0 || s == steps;
+      case Frames::None:
+        return false;
+      case Frames::Steps:
+        return s % frame_every == 0 || s == steps;
       case Frames::Time: {
         if (s == 0 || s == steps) return true;
         const auto k = std::int64_t(double(s) * dt / frame_time);
@@ -492,16 +507,20 @@ struct Cadence {
   }
   std::int64_t next_frame(std::int64_t s) const {
     switch (frames) {
-      case Frames::Steps: return next_multiple(s, frame_every);
+      case Frames::Steps:
+        return next_multiple(s, frame_every);
       case Frames::Time: {
         auto k = std::int64_t(double(s) * dt / frame_time);
         while (time_frame_step(k) <= s) ++k;
         return std::min(steps, time_frame_step(k));
       }
-      default: return steps;  // Breaks: checked at probe rows
+      default:
+        return steps;  // Breaks: checked at probe rows
     }
   }
-  bool checkpoint_due(std::int64_t s) const { return checkpoint_every > 0 && s > 0 && s % checkpoint_every == 0; }
+  bool checkpoint_due(std::int64_t s) const {
+    return checkpoint_every > 0 && s > 0 && s % checkpoint_every == 0;
+  }
   std::int64_t next_checkpoint(std::int64_t s) const {
     return checkpoint_every > 0 ? next_multiple(s, checkpoint_every) : steps;
   }
@@ -593,8 +612,8 @@ int run_scene(const SceneOptions& opt) {
                 opt.restart.string().c_str());
     ckpt.reset();
     if (first >= steps)
-      log::warn("the checkpoint is at step {}, solver.steps = {}: nothing left to run (raise solver.steps)", first,
-                steps);
+      log::warn("the checkpoint is at step {}, solver.steps = {}: nothing left to run (raise solver.steps)",
+                first, steps);
   }
 
   log::info("running {} steps on {} thread(s); output in {}", steps - std::min(first, steps), par::threads(),
@@ -625,25 +644,29 @@ int run_scene(const SceneOptions& opt) {
         }
         fs::path ck;
         if (STRATA_WITH_HDF5) ck = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
-        out.finish(m, model, seconds_since(t0), fmt::format("interrupted by SIG{} at step {}", sigabbrev_np(sig), s));
+        out.finish(m, model, seconds_since(t0),
+                   fmt::format("interrupted by SIG{} at step {}", sigabbrev_np(sig), s));
         const fs::path frame = out.last_frame();
-        std::printf("interrupted by SIG%s at step %lld (t = %.6g s)\n", sigabbrev_np(sig), (long long)s, m.sim.time());
+        std::printf("interrupted by SIG%s at step %lld (t = %.6g s)\n", sigabbrev_np(sig), (long long)s,
+                    m.sim.time());
         if (!frame.empty()) std::printf("  last frame  %s\n", frame.string().c_str());
         if (!ck.empty())
-          std::printf("  checkpoint  %s\n  continue with: strata run %s -o %s --restart %s\n", ck.string().c_str(),
-                      sc.file.string().c_str(), dir.string().c_str(), ck.string().c_str());
+          std::printf("  checkpoint  %s\n  continue with: strata run %s -o %s --restart %s\n",
+                      ck.string().c_str(), sc.file.string().c_str(), dir.string().c_str(),
+                      ck.string().c_str());
         std::fflush(stdout);
         return 128 + sig;
       }
-      if (cad.checkpoint_due(s) && s != first) write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
+      if (cad.checkpoint_due(s) && s != first)
+        write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
       const std::int64_t to =
           std::min({cad.next_probe(s), cad.next_frame(s), cad.next_checkpoint(s), steps, s + max_chunk});
       const auto c0 = std::chrono::steady_clock::now();
       m.sim.run(to - s);
       const double took = seconds_since(c0);
       if (to - s == max_chunk || took > 0.25)
-        max_chunk = std::clamp<std::int64_t>(took > 0 ? std::int64_t(double(to - s) * 0.25 / took) : 2 * max_chunk,
-                                             1, 1 << 20);
+        max_chunk = std::clamp<std::int64_t>(
+            took > 0 ? std::int64_t(double(to - s) * 0.25 / took) : 2 * max_chunk, 1, 1 << 20);
       progress.update(m.sim.step_count());
     }
   } catch (const Error& e) {
@@ -668,7 +691,8 @@ int run_scene(const SceneOptions& opt) {
   out.finish(m, model, run_seconds, "completed");
   const std::int64_t done = m.sim.step_count() - first;
   log::info("{} steps in {} ({:.3g} particle-steps/s); {} bonds broken ({} tension, {} shear)", done,
-            format_duration(run_seconds), run_seconds > 0 ? double(m.sim.particle_count()) * double(done) / run_seconds : 0.0,
+            format_duration(run_seconds),
+            run_seconds > 0 ? double(m.sim.particle_count()) * double(done) / run_seconds : 0.0,
             m.sim.broken_count(), m.sim.broken_count(dem::BreakMode::Tension),
             m.sim.broken_count(dem::BreakMode::Shear));
   out.pictures(sc);

@@ -17,13 +17,14 @@ namespace {
 
 double mode_code(const std::string& m) { return m == "serial" ? 0 : m == "parallel" ? 1 : 2; }
 
-void write_outputs(const ReportOptions& opt, const std::vector<couple::SweepRow>& rows, const std::string& header) {
+void write_outputs(const ReportOptions& opt, const std::vector<couple::SweepRow>& rows,
+                   const std::string& header) {
   std::filesystem::create_directories(opt.output);
   const std::string stem = opt.case_name + "_sweep";
   {
     io::CsvWriter csv(opt.output / (stem + ".csv"),
-                      {"eta", "mode", "dt_dem_s", "dt_fem_s", "fem_steps", "dem_steps", "err_max_m", "err_rms_m",
-                       "ref_max_m", "wall_s"});
+                      {"eta", "mode", "dt_dem_s", "dt_fem_s", "fem_steps", "dem_steps", "err_max_m",
+                       "err_rms_m", "ref_max_m", "wall_s"});
     for (const auto& r : rows)
       csv.row({double(r.eta), mode_code(r.mode), r.dt_dem, r.dt_fem, double(r.fem_steps), double(r.dem_steps),
                r.err_max, r.err_rms, r.ref_max, r.wall_s});
@@ -87,22 +88,24 @@ int report_cmd(const ReportOptions& opt) {
     if (opt.check_only) return 0;
     so.fem_scheme = fem::scheme_from_string(opt.fem_scheme.empty() ? "implicit-newmark" : opt.fem_scheme);
     const auto rows = couple::sweep_metamaterial(so);
-    write_outputs(opt, rows,
-                  fmt::format("metamaterial chain (SPEC C3): FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = "
-                              "{:.3g} s; half-sine pulse {} N for {:.3g} s on outer mass 1; {:.3g} s simulated; "
-                              "error of DEM mass 250 against monolithic implicit Newmark at dt = {:.3g} s",
-                              fem::to_string(so.fem_scheme), dt, opt.pulse_amplitude, opt.pulse_duration,
-                              opt.duration > 0 ? opt.duration : 0.075, opt.dt_ref));
+    write_outputs(
+        opt, rows,
+        fmt::format("metamaterial chain (SPEC C3): FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = "
+                    "{:.3g} s; half-sine pulse {} N for {:.3g} s on outer mass 1; {:.3g} s simulated; "
+                    "error of DEM mass 250 against monolithic implicit Newmark at dt = {:.3g} s",
+                    fem::to_string(so.fem_scheme), dt, opt.pulse_amplitude, opt.pulse_duration,
+                    opt.duration > 0 ? opt.duration : 0.075, opt.dt_ref));
     return 0;
   }
   if (opt.check_only) return 0;
   so.fem_scheme = fem::scheme_from_string(opt.fem_scheme.empty() ? "explicit-newmark" : opt.fem_scheme);
   const auto rows = couple::sweep_chain6(so);
-  write_outputs(opt, rows,
-                fmt::format("6-DOF chain (SPEC C3): FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = {:.3g} s; "
-                            "{:.3g} s simulated; error of m3 against the exact modal solution",
-                            fem::to_string(so.fem_scheme), opt.dt_dem > 0 ? opt.dt_dem : 1e-4,
-                            opt.duration > 0 ? opt.duration : 20.0));
+  write_outputs(
+      opt, rows,
+      fmt::format("6-DOF chain (SPEC C3): FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = {:.3g} s; "
+                  "{:.3g} s simulated; error of m3 against the exact modal solution",
+                  fem::to_string(so.fem_scheme), opt.dt_dem > 0 ? opt.dt_dem : 1e-4,
+                  opt.duration > 0 ? opt.duration : 20.0));
   return 0;
 }
 

@@ -12,8 +12,8 @@ struct ReportOptions {
   std::filesystem::path output = "out/report";   ///< directory for <case>_sweep.{csv,md,png}
   std::vector<int> etas{1, 2, 3, 4, 5, 10, 20};  ///< integer η >= 1
   std::string modes = "both";                    ///< serial, parallel or both
-  double dt_dem = 0;       ///< s; 0: case default (chain6 1e-4, metamaterial 5e-5)
-  double duration = 0;     ///< s; 0: case default (chain6 20, metamaterial 0.075)
+  double dt_dem = 0;                             ///< s; 0: case default (chain6 1e-4, metamaterial 5e-5)
+  double duration = 0;                           ///< s; 0: case default (chain6 20, metamaterial 0.075)
   std::string fem_scheme;  ///< empty: case default (chain6 explicit-newmark, metamaterial implicit-newmark)
   double dt_ref = 1e-6;    ///< metamaterial reference step (implicit Newmark)
   double pulse_amplitude = 100;  ///< metamaterial half-sine pulse (N)

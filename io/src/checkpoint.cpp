@@ -60,10 +60,14 @@ void quiet_hdf5() {
 
 hid_t native_type(StateType t) {
   switch (t) {
-    case StateType::UInt8: return H5T_NATIVE_UINT8;
-    case StateType::UInt32: return H5T_NATIVE_UINT32;
-    case StateType::Int64: return H5T_NATIVE_INT64;
-    case StateType::Float64: return H5T_NATIVE_DOUBLE;
+    case StateType::UInt8:
+      return H5T_NATIVE_UINT8;
+    case StateType::UInt32:
+      return H5T_NATIVE_UINT32;
+    case StateType::Int64:
+      return H5T_NATIVE_INT64;
+    case StateType::Float64:
+      return H5T_NATIVE_DOUBLE;
   }
   return H5T_NATIVE_UINT8;
 }
@@ -90,17 +94,17 @@ template <typename T>
 void put_number_attr(hid_t obj, const char* name, T value, hid_t type, const fs::path& file) {
   Handle space(H5Screate(H5S_SCALAR), H5Sclose);
   Handle attr(H5Acreate2(obj, name, type, space.get(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
-  STRATA_CHECK(attr.ok() && H5Awrite(attr.get(), type, &value) >= 0, IO, "cannot write attribute '{}' to {}", name,
-               file.string());
+  STRATA_CHECK(attr.ok() && H5Awrite(attr.get(), type, &value) >= 0, IO, "cannot write attribute '{}' to {}",
+               name, file.string());
 }
 
 std::string get_string_attr(hid_t obj, const char* name, const fs::path& file) {
-  STRATA_CHECK(H5Aexists(obj, name) > 0, IO, "{} is not a strata checkpoint (no attribute '{}')", file.string(),
-               name);
+  STRATA_CHECK(H5Aexists(obj, name) > 0, IO, "{} is not a strata checkpoint (no attribute '{}')",
+               file.string(), name);
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
   Handle stored(H5Aget_type(attr.get()), H5Tclose);
-  STRATA_CHECK(stored.ok() && H5Tget_class(stored.get()) == H5T_STRING && !H5Tis_variable_str(stored.get()), IO,
-               "{}: attribute '{}' is not a text", file.string(), name);
+  STRATA_CHECK(stored.ok() && H5Tget_class(stored.get()) == H5T_STRING && !H5Tis_variable_str(stored.get()),
+               IO, "{}: attribute '{}' is not a text", file.string(), name);
   const std::size_t size = H5Tget_size(stored.get());
   Handle type(H5Tcopy(H5T_C_S1), H5Tclose);
   H5Tset_size(type.get(), size);
@@ -114,8 +118,8 @@ std::string get_string_attr(hid_t obj, const char* name, const fs::path& file) {
 
 template <typename T>
 T get_number_attr(hid_t obj, const char* name, hid_t type, const fs::path& file) {
-  STRATA_CHECK(H5Aexists(obj, name) > 0, IO, "{} is not a strata checkpoint (no attribute '{}')", file.string(),
-               name);
+  STRATA_CHECK(H5Aexists(obj, name) > 0, IO, "{} is not a strata checkpoint (no attribute '{}')",
+               file.string(), name);
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
   T value{};
   STRATA_CHECK(attr.ok() && H5Aread(attr.get(), type, &value) >= 0, IO, "{}: cannot read attribute '{}'",
@@ -161,7 +165,8 @@ CheckpointWriter::CheckpointWriter(const fs::path& path, const CheckpointInfo& i
 
 CheckpointWriter::~CheckpointWriter() = default;
 
-void CheckpointWriter::put_array(const std::string& name, StateType type, const void* data, std::size_t count) {
+void CheckpointWriter::put_array(const std::string& name, StateType type, const void* data,
+                                 std::size_t count) {
   STRATA_CHECK(impl_->file >= 0, IO, "checkpoint {} is already committed", path_.string());
   const hsize_t dims[1] = {static_cast<hsize_t>(count)};
   Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
@@ -200,10 +205,10 @@ struct CheckpointReader::Impl {
   /// Opens dataset `name`, or throws naming the checkpoint.
   hid_t open(const std::string& name, const fs::path& path) const {
     // H5Lexists needs every group on the way to exist: test them one by one
-    for (std::size_t pos = name.find('/'); ; pos = name.find('/', pos + 1)) {
+    for (std::size_t pos = name.find('/');; pos = name.find('/', pos + 1)) {
       const std::string part = name.substr(0, pos);
-      STRATA_CHECK(H5Lexists(file, part.c_str(), H5P_DEFAULT) > 0, IO, "checkpoint {} has no '{}'", path.string(),
-                   name);
+      STRATA_CHECK(H5Lexists(file, part.c_str(), H5P_DEFAULT) > 0, IO, "checkpoint {} has no '{}'",
+                   path.string(), name);
       if (pos == std::string::npos) break;
     }
     const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
@@ -221,14 +226,16 @@ CheckpointReader::CheckpointReader(const fs::path& path) : path_(path), impl_(st
   STRATA_CHECK(impl_->file >= 0, IO, "cannot open checkpoint {}", path_.string());
   const hid_t root = impl_->file;
   const std::string format = get_string_attr(root, "format", path_);
-  STRATA_CHECK(format == kFormatName, IO, "{} is not a strata checkpoint (format '{}')", path_.string(), format);
+  STRATA_CHECK(format == kFormatName, IO, "{} is not a strata checkpoint (format '{}')", path_.string(),
+               format);
   const auto version = get_number_attr<std::int64_t>(root, "format_version", H5T_NATIVE_INT64, path_);
   STRATA_CHECK(version == kFormatVersion, Input,
                "checkpoint {} has file format {}; this strata reads format {}", path_.string(), version,
                kFormatVersion);
   info_.version = get_string_attr(root, "strata_version", path_);
   info_.fingerprint = get_string_attr(root, "scene_fingerprint", path_);
-  info_.dimension = static_cast<int>(get_number_attr<std::int64_t>(root, "dimension", H5T_NATIVE_INT64, path_));
+  info_.dimension =
+      static_cast<int>(get_number_attr<std::int64_t>(root, "dimension", H5T_NATIVE_INT64, path_));
   info_.particles = get_number_attr<std::uint64_t>(root, "particles", H5T_NATIVE_UINT64, path_);
   info_.step = get_number_attr<std::int64_t>(root, "step", H5T_NATIVE_INT64, path_);
   info_.time = get_number_attr<double>(root, "time", H5T_NATIVE_DOUBLE, path_);
@@ -246,8 +253,8 @@ bool CheckpointReader::has(const std::string& name) const {
 std::size_t CheckpointReader::count(const std::string& name, StateType type) const {
   Handle set(impl_->open(name, path_), H5Dclose);
   Handle stored(H5Dget_type(set.get()), H5Tclose);
-  STRATA_CHECK(stored.ok() && same_kind(stored.get(), type), IO, "checkpoint {}: '{}' does not hold {} values",
-               path_.string(), name, state_type_name(type));
+  STRATA_CHECK(stored.ok() && same_kind(stored.get(), type), IO,
+               "checkpoint {}: '{}' does not hold {} values", path_.string(), name, state_type_name(type));
   Handle space(H5Dget_space(set.get()), H5Sclose);
   STRATA_CHECK(space.ok() && H5Sget_simple_extent_ndims(space.get()) == 1, IO,
                "checkpoint {}: '{}' is not a 1-D array", path_.string(), name);
@@ -256,10 +263,11 @@ std::size_t CheckpointReader::count(const std::string& name, StateType type) con
   return static_cast<std::size_t>(dims[0]);
 }
 
-void CheckpointReader::get_array(const std::string& name, StateType type, void* data, std::size_t count) const {
+void CheckpointReader::get_array(const std::string& name, StateType type, void* data,
+                                 std::size_t count) const {
   const std::size_t stored = this->count(name, type);
-  STRATA_CHECK(stored == count, IO, "checkpoint {}: '{}' has {} values, {} asked", path_.string(), name, stored,
-               count);
+  STRATA_CHECK(stored == count, IO, "checkpoint {}: '{}' has {} values, {} asked", path_.string(), name,
+               stored, count);
   if (count == 0) return;
   Handle set(impl_->open(name, path_), H5Dclose);
   STRATA_CHECK(H5Dread(set.get(), native_type(type), H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0, IO,
@@ -284,7 +292,9 @@ CheckpointReader::CheckpointReader(const fs::path& path) : path_(path) {
   fail_missing_feature("STRATA_WITH_HDF5", "checkpoints");
 }
 CheckpointReader::~CheckpointReader() = default;
-bool CheckpointReader::has(const std::string&) const { fail_missing_feature("STRATA_WITH_HDF5", "checkpoints"); }
+bool CheckpointReader::has(const std::string&) const {
+  fail_missing_feature("STRATA_WITH_HDF5", "checkpoints");
+}
 std::size_t CheckpointReader::count(const std::string&, StateType) const {
   fail_missing_feature("STRATA_WITH_HDF5", "checkpoints");
 }

@@ -30,8 +30,8 @@ CsvWriter::CsvWriter(const std::filesystem::path& path, std::vector<std::string>
   std::fflush(file_);
 }
 
-CsvWriter CsvWriter::append(const std::filesystem::path& path, std::vector<std::string> columns, double keep_until,
-                            std::size_t flush_every) {
+CsvWriter CsvWriter::append(const std::filesystem::path& path, std::vector<std::string> columns,
+                            double keep_until, std::size_t flush_every) {
   if (!std::filesystem::exists(path)) return CsvWriter(path, std::move(columns), flush_every);
   std::ifstream in(path, std::ios::binary);
   STRATA_CHECK(in, IO, "cannot open {}", path.string());

@@ -73,10 +73,11 @@ CoupledChain split_chain(const ChainModel& model, const std::vector<std::int64_t
   for (std::size_t sp = 0; sp < net.k.size(); ++sp) {
     const auto a = static_cast<std::size_t>(net.i[sp]), b = static_cast<std::size_t>(net.j[sp]);
     const bool fa = inF[a] && !inD[a], fb = inF[b] && !inD[b], da = inD[a] && !inF[a], db = inD[b] && !inF[b];
-    STRATA_CHECK(!((fa && db) || (da && fb)), Input,
-                 "split_chain: spring {}-{} joins an FEM-only and a DEM-only node; the partitions must overlap by one "
-                 "layer",
-                 a, b);
+    STRATA_CHECK(
+        !((fa && db) || (da && fb)), Input,
+        "split_chain: spring {}-{} joins an FEM-only and a DEM-only node; the partitions must overlap by one "
+        "layer",
+        a, b);
     if (fb) touchF[a] = 1;
     if (fa) touchF[b] = 1;
     if (db) touchD[a] = 1;
@@ -85,10 +86,11 @@ CoupledChain split_chain(const ChainModel& model, const std::vector<std::int64_t
   auto role_of = [&](std::int64_t g, bool fem_side) {
     const auto i = static_cast<std::size_t>(g);
     if (!(inF[i] && inD[i])) return Role::Internal;
-    STRATA_CHECK(!(touchF[i] && touchD[i]), Input,
-                 "split_chain: overlap node {} touches both FEM-only and DEM-only nodes (overlap thinner than one "
-                 "layer)",
-                 g);
+    STRATA_CHECK(
+        !(touchF[i] && touchD[i]), Input,
+        "split_chain: overlap node {} touches both FEM-only and DEM-only nodes (overlap thinner than one "
+        "layer)",
+        g);
     const bool fem_external = touchD[i] != 0;  // linked to the DEM interior: the DEM owns it
     return fem_side ? (fem_external ? Role::External : Role::Boundary)
                     : (fem_external ? Role::Boundary : Role::External);
@@ -163,8 +165,8 @@ constexpr double kChainP = 1.0;           // force amplitude (N)
 ChainModel chain6_model() {
   ChainModel m;
   m.net.mass.assign(6, 1.0);
-  m.net.add_ground_spring(0, 1.0);  // k1: wall–m1
-  for (int i = 0; i < 5; ++i) m.net.add_spring(i, i + 1, 1.0);  // k2..k6
+  m.net.add_ground_spring(0, 1.0);                                                        // k1: wall–m1
+  for (int i = 0; i < 5; ++i) m.net.add_spring(i, i + 1, 1.0);                            // k2..k6
   m.loads.emplace_back(1, [](double t) { return kChainP * std::sin(kChainOmega * t); });  // on m2
   return m;
 }
@@ -237,12 +239,14 @@ std::int64_t metamaterial_dem_mass(int n) { return kFemOuter + n - 1; }
 MetamaterialStability metamaterial_stability() {
   MetamaterialStability s;
   const ChainModel m = metamaterial_model();
-  fem::Solver whole = monolithic_solver(m, fem::SolverSettings{.scheme = fem::Scheme::ImplicitNewmark, .dt = 1e-6});
+  fem::Solver whole =
+      monolithic_solver(m, fem::SolverSettings{.scheme = fem::Scheme::ImplicitNewmark, .dt = 1e-6});
   s.omega_whole = whole.omega_max_exact(600).omega_max;
   s.dt_whole = 2 / s.omega_whole;
   s.omega_whole_bound = whole.stability().omega_bound;
-  CoupledChain c = split_chain(m, metamaterial_fem_nodes(), metamaterial_dem_nodes(),
-                               SplitSettings{.dt_dem = 1e-6, .eta = 1, .fem_scheme = fem::Scheme::ImplicitNewmark});
+  CoupledChain c =
+      split_chain(m, metamaterial_fem_nodes(), metamaterial_dem_nodes(),
+                  SplitSettings{.dt_dem = 1e-6, .eta = 1, .fem_scheme = fem::Scheme::ImplicitNewmark});
   for (const Link& l : c.overlap.fem_to_dem) c.dem->make_external(l.to);
   for (const Link& l : c.overlap.dem_to_fem) c.fem->make_external(l.to);
   s.omega_dem = c.dem->omega_bound();
@@ -255,7 +259,8 @@ MetamaterialStability metamaterial_stability() {
 std::string MetamaterialStability::text(double dt_dem) const {
   return fmt::format(
       "metamaterial chain: dt_DEM = {:.4g} s\n"
-      "  whole chain: omega_max = {:.4g} rad/s (exact, Lanczos; element bound {:.4g}) -> explicit limit {:.4g} s\n"
+      "  whole chain: omega_max = {:.4g} rad/s (exact, Lanczos; element bound {:.4g}) -> explicit limit "
+      "{:.4g} s\n"
       "  DEM partition alone (plain chain, omega_max = 2*sqrt(k_n/m_s) = {:.4g} rad/s) -> limit {:.4g} s\n"
       "  FEM partition (resonators, externals held): omega_max = {:.4g} rad/s -> explicit limit {:.4g} s",
       dt_dem, omega_whole, omega_whole_bound, dt_whole, omega_dem, dt_dem_crit, omega_fem, dt_fem_explicit);
@@ -265,14 +270,19 @@ void check_metamaterial_dt(double dt_dem, bool allow_unstable) {
   const MetamaterialStability s = metamaterial_stability();
   if (dt_dem <= s.dt_dem_crit && dt_dem <= s.dt_whole) return;
   const std::string msg = fmt::format(
-      "dt_DEM = {:.4g} s is unstable for any explicit scheme: the stable limit is {:.3g} s for the whole chain "
-      "(omega_max = {:.3g} rad/s) and {:.3g} s for the DEM partition alone (omega_max = 2*sqrt(k_n/m_s) = {:.3g} "
+      "dt_DEM = {:.4g} s is unstable for any explicit scheme: the stable limit is {:.3g} s for the whole "
+      "chain "
+      "(omega_max = {:.3g} rad/s) and {:.3g} s for the DEM partition alone (omega_max = 2*sqrt(k_n/m_s) = "
+      "{:.3g} "
       "rad/s); use dt_DEM <= {:.3g} s\n{}",
-      dt_dem, s.dt_whole, s.omega_whole, s.dt_dem_crit, s.omega_dem, std::min(s.dt_whole, s.dt_dem_crit), s.text(dt_dem));
+      dt_dem, s.dt_whole, s.omega_whole, s.dt_dem_crit, s.omega_dem, std::min(s.dt_whole, s.dt_dem_crit),
+      s.text(dt_dem));
   if (dt_dem > s.dt_dem_crit && !allow_unstable) fail(ErrorKind::Input, "{}", msg);
   if (dt_dem > s.dt_whole && !allow_unstable)
-    fail(ErrorKind::Input, "{}\n  (a coupled run with an implicit FEM partition may still run: the DEM partition "
-                           "alone is within its limit)", msg);
+    fail(ErrorKind::Input,
+         "{}\n  (a coupled run with an implicit FEM partition may still run: the DEM partition "
+         "alone is within its limit)",
+         msg);
 }
 
 // ---- sweeps ---------------------------------------------------------------------------
@@ -302,9 +312,9 @@ void errors_against(SweepRow& r, const std::vector<double>& t, const std::vector
 
 // Runs one coupled point; the samples of the probe come from the FEM or DEM side.
 SweepRow coupled_point(const std::string& name, const ChainModel& model, const std::vector<std::int64_t>& fn,
-                       const std::vector<std::int64_t>& dn, std::int64_t probe_node, bool probe_on_fem, int eta,
-                       Execution mode, const SweepOptions& o, double dt_dem, double duration, fem::Scheme scheme,
-                       const std::function<double(double)>& ref) {
+                       const std::vector<std::int64_t>& dn, std::int64_t probe_node, bool probe_on_fem,
+                       int eta, Execution mode, const SweepOptions& o, double dt_dem, double duration,
+                       fem::Scheme scheme, const std::function<double(double)>& ref) {
   SweepRow r;
   r.case_name = name;
   r.eta = eta;
@@ -317,7 +327,8 @@ SweepRow coupled_point(const std::string& name, const ChainModel& model, const s
   double best = INFINITY;
   std::vector<double> t, u;
   for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
-    CoupledChain c = split_chain(model, fn, dn, SplitSettings{.dt_dem = dt_dem, .eta = eta, .fem_scheme = scheme});
+    CoupledChain c =
+        split_chain(model, fn, dn, SplitSettings{.dt_dem = dt_dem, .eta = eta, .fem_scheme = scheme});
     Coupler cp(*c.fem, *c.dem, c.overlap, eta, mode);
     if (probe_on_fem)
       cp.probe_fem(c.fem_local(probe_node), "probe");
@@ -417,8 +428,8 @@ std::vector<SweepRow> sweep_metamaterial(const SweepOptions& o) {
     for (int eta : o.etas) {
       SweepRow r;
       try {
-        r = coupled_point("metamaterial", model, metamaterial_fem_nodes(), metamaterial_dem_nodes(), probe, false,
-                          eta, mode, o, dt, T, o.fem_scheme, ref);
+        r = coupled_point("metamaterial", model, metamaterial_fem_nodes(), metamaterial_dem_nodes(), probe,
+                          false, eta, mode, o, dt, T, o.fem_scheme, ref);
       } catch (const Error& e) {
         if (e.kind() != ErrorKind::Input) throw;
         r.case_name = "metamaterial";
@@ -435,7 +446,8 @@ std::vector<SweepRow> sweep_metamaterial(const SweepOptions& o) {
       r.probe = "DEM mass 250 (outer mass 550)";
       rows.push_back(std::move(r));
     }
-  SweepRow mono = monolithic_point("metamaterial", model, probe, fem::Scheme::CentralDifference, dt, T, o, ref);
+  SweepRow mono =
+      monolithic_point("metamaterial", model, probe, fem::Scheme::CentralDifference, dt, T, o, ref);
   mono.probe = "DEM mass 250 (outer mass 550)";
   rows.push_back(std::move(mono));
   return rows;
@@ -443,17 +455,18 @@ std::vector<SweepRow> sweep_metamaterial(const SweepOptions& o) {
 
 std::string sweep_markdown(const std::vector<SweepRow>& rows) {
   std::string s =
-      "| η | mode | dt_DEM (s) | dt_FEM (s) | FEM steps | DEM steps | max error (m) | RMS error (m) | max error / "
+      "| η | mode | dt_DEM (s) | dt_FEM (s) | FEM steps | DEM steps | max error (m) | RMS error (m) | max "
+      "error / "
       "max abs(u_ref) | wall time (ms) |\n"
       "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const SweepRow& r : rows) {
     if (std::isnan(r.wall_s)) {
-      s += fmt::format("| {} | {} | {:.3g} | {:.3g} | – | – | refused | – | – | – |\n", r.eta, r.mode, r.dt_dem,
-                       r.dt_fem);
+      s += fmt::format("| {} | {} | {:.3g} | {:.3g} | – | – | refused | – | – | – |\n", r.eta, r.mode,
+                       r.dt_dem, r.dt_fem);
       continue;
     }
-    s += fmt::format("| {} | {} | {:.3g} | {:.3g} | {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2f} |\n", r.eta, r.mode,
-                     r.dt_dem, r.dt_fem, r.fem_steps, r.dem_steps, r.err_max, r.err_rms,
+    s += fmt::format("| {} | {} | {:.3g} | {:.3g} | {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2f} |\n", r.eta,
+                     r.mode, r.dt_dem, r.dt_fem, r.fem_steps, r.dem_steps, r.err_max, r.err_rms,
                      r.ref_max > 0 ? r.err_max / r.ref_max : 0.0, 1e3 * r.wall_s);
   }
   return s;

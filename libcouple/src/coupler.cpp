@@ -32,15 +32,17 @@ Overlap make_overlap(const std::vector<std::int64_t>& fem_ids, const std::vector
                  fem_roles[f] == Role::Boundary ? "boundary" : "external", fem_ids[f]);
     const Role want = fem_roles[f] == Role::Boundary ? Role::External : Role::Boundary;
     STRATA_CHECK(dem_roles[it->second] == want, Input,
-                 "overlap: FEM {} node {} coincides with a DEM particle that is not {} (SPEC C3: FEM B + E = DEM E + B)",
+                 "overlap: FEM {} node {} coincides with a DEM particle that is not {} (SPEC C3: FEM B + E = "
+                 "DEM E + B)",
                  fem_roles[f] == Role::Boundary ? "boundary" : "external", fem_ids[f],
                  want == Role::External ? "external" : "boundary");
     (fem_roles[f] == Role::Boundary ? o.fem_to_dem : o.dem_to_fem)
         .push_back(fem_roles[f] == Role::Boundary ? Link{f, it->second} : Link{it->second, f});
   }
-  STRATA_CHECK(o.fem_to_dem.size() == dem_e && o.dem_to_fem.size() == dem_b, Input,
-               "overlap: {} DEM external and {} DEM boundary particles, but {} FEM boundary and {} FEM external nodes",
-               dem_e, dem_b, o.fem_to_dem.size(), o.dem_to_fem.size());
+  STRATA_CHECK(
+      o.fem_to_dem.size() == dem_e && o.dem_to_fem.size() == dem_b, Input,
+      "overlap: {} DEM external and {} DEM boundary particles, but {} FEM boundary and {} FEM external nodes",
+      dem_e, dem_b, o.fem_to_dem.size(), o.dem_to_fem.size());
   STRATA_CHECK(!o.fem_to_dem.empty() && !o.dem_to_fem.empty(), Input, "overlap: empty (no boundary layer)");
   return o;
 }
@@ -50,8 +52,9 @@ std::string CoupledStability::text() const {
       "coupled step: dt_DEM = {:.4g} s, eta = {}, dt_FEM = {:.4g} s\n"
       "  DEM partition limit {:.4g} s (ratio {:.3f})\n"
       "  FEM partition explicit limit {:.4g} s (ratio {:.3f}); integrator {}{}",
-      dt_dem, eta, dt_fem, dem_dt_crit, dt_dem / dem_dt_crit, fem_explicit_dt_crit, dt_fem / fem_explicit_dt_crit,
-      fem_integrator, std::isinf(fem_dt_crit) ? " (unconditionally stable)" : "");
+      dt_dem, eta, dt_fem, dem_dt_crit, dt_dem / dem_dt_crit, fem_explicit_dt_crit,
+      dt_fem / fem_explicit_dt_crit, fem_integrator,
+      std::isinf(fem_dt_crit) ? " (unconditionally stable)" : "");
   for (const auto& n : notes) s += "\n  note: " + n;
   for (const auto& p : problems) s += "\n  UNSTABLE: " + p;
   return s;
@@ -67,20 +70,23 @@ CoupledStability coupled_stability(const Partition& fem, const Partition& dem, i
   c.fem_dt_crit = fem.critical_dt();
   c.fem_integrator = fem.integrator();
   if (c.dt_dem > c.dem_dt_crit)
-    c.problems.push_back(fmt::format("dt_DEM = {:.4g} s exceeds the {} partition's critical step {:.4g} s ({})",
-                                     c.dt_dem, dem.name(), c.dem_dt_crit, dem.integrator()));
+    c.problems.push_back(
+        fmt::format("dt_DEM = {:.4g} s exceeds the {} partition's critical step {:.4g} s ({})", c.dt_dem,
+                    dem.name(), c.dem_dt_crit, dem.integrator()));
   if (c.dt_fem > c.fem_explicit_dt_crit) {
     if (fem.is_explicit())
-      c.problems.push_back(fmt::format(
-          "eta*dt_DEM = {} x {:.4g} s = {:.4g} s exceeds the {} partition's explicit limit {:.4g} s ({}); at this eta "
-          "only the implicit Newmark (beta = 1/4, gamma = 1/2) is allowed, or lower eta to <= {}",
-          eta, c.dt_dem, c.dt_fem, fem.name(), c.fem_explicit_dt_crit, fem.integrator(),
-          static_cast<int>(std::floor(c.fem_explicit_dt_crit / c.dt_dem))));
+      c.problems.push_back(
+          fmt::format("eta*dt_DEM = {} x {:.4g} s = {:.4g} s exceeds the {} partition's explicit limit "
+                      "{:.4g} s ({}); at this eta "
+                      "only the implicit Newmark (beta = 1/4, gamma = 1/2) is allowed, or lower eta to <= {}",
+                      eta, c.dt_dem, c.dt_fem, fem.name(), c.fem_explicit_dt_crit, fem.integrator(),
+                      static_cast<int>(std::floor(c.fem_explicit_dt_crit / c.dt_dem))));
     else
-      c.notes.push_back(fmt::format(
-          "eta*dt_DEM = {:.4g} s exceeds the {} partition's explicit limit {:.4g} s: only the implicit Newmark is "
-          "allowed here (in use: {})",
-          c.dt_fem, fem.name(), c.fem_explicit_dt_crit, fem.integrator()));
+      c.notes.push_back(
+          fmt::format("eta*dt_DEM = {:.4g} s exceeds the {} partition's explicit limit {:.4g} s: only the "
+                      "implicit Newmark is "
+                      "allowed here (in use: {})",
+                      c.dt_fem, fem.name(), c.fem_explicit_dt_crit, fem.integrator()));
   }
   if (c.dt_fem > c.fem_dt_crit && !fem.is_explicit())
     c.problems.push_back(fmt::format("dt_FEM = {:.4g} s exceeds the {} integrator's limit {:.4g} s", c.dt_fem,
@@ -126,8 +132,10 @@ void Coupler::initialise(bool allow_unstable) {
     if (!allow_unstable) fail(ErrorKind::Input, "{}", stab_.text());
     log::warn("{}\nrunning anyway as asked", stab_.text());
   }
-  for (const Link& l : overlap_.fem_to_dem) dem_.set_external(l.to, fem_.displacement(l.from), fem_.velocity(l.from));
-  for (const Link& l : overlap_.dem_to_fem) fem_.set_external(l.to, dem_.displacement(l.from), dem_.velocity(l.from));
+  for (const Link& l : overlap_.fem_to_dem)
+    dem_.set_external(l.to, fem_.displacement(l.from), fem_.velocity(l.from));
+  for (const Link& l : overlap_.dem_to_fem)
+    fem_.set_external(l.to, dem_.displacement(l.from), dem_.velocity(l.from));
   fem_.initialise();
   dem_.initialise();
   record_fem();
@@ -177,7 +185,8 @@ void Coupler::run(std::int64_t system_steps) {
         sync.arrive_and_wait();
         if (abort.load()) return;
         const std::vector<double>& in = dem_box[s & 1];
-        for (std::size_t k = 0; k < nd; ++k) fem_.set_external(overlap_.dem_to_fem[k].to, in[2 * k], in[2 * k + 1]);
+        for (std::size_t k = 0; k < nd; ++k)
+          fem_.set_external(overlap_.dem_to_fem[k].to, in[2 * k], in[2 * k + 1]);
         fem_.step();
         record_fem();
       }
@@ -198,7 +207,8 @@ void Coupler::run(std::int64_t system_steps) {
         sync.arrive_and_wait();
         if (abort.load()) return;
         const std::vector<double>& in = fem_box[s & 1];
-        for (std::size_t k = 0; k < nf; ++k) dem_.set_external(overlap_.fem_to_dem[k].to, in[2 * k], in[2 * k + 1]);
+        for (std::size_t k = 0; k < nf; ++k)
+          dem_.set_external(overlap_.fem_to_dem[k].to, in[2 * k], in[2 * k + 1]);
         for (int k = 0; k < eta_; ++k) {
           dem_.step();
           record_dem();

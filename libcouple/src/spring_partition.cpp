@@ -9,7 +9,8 @@
 
 namespace strata::couple {
 
-SpringNetworkPartition::SpringNetworkPartition(SpringNetwork net, double dt, std::string name, bool allow_unstable)
+SpringNetworkPartition::SpringNetworkPartition(SpringNetwork net, double dt, std::string name,
+                                               bool allow_unstable)
     : net_(std::move(net)), dt_(dt), name_(std::move(name)), allow_unstable_(allow_unstable) {
   const std::size_t n = net_.mass.size();
   STRATA_CHECK(dt > 0 && std::isfinite(dt), Input, "{}: dt = {} must be > 0 (s)", name_, dt);
@@ -18,9 +19,10 @@ SpringNetworkPartition::SpringNetworkPartition(SpringNetwork net, double dt, std
                Input, "{}: spring arrays differ in length", name_);
   for (double m : net_.mass) STRATA_CHECK(m > 0, Input, "{}: mass {} kg must be > 0", name_, m);
   for (std::size_t s = 0; s < net_.k.size(); ++s)
-    STRATA_CHECK(net_.k[s] > 0 && net_.i[s] >= 0 && net_.j[s] >= 0 && static_cast<std::size_t>(net_.i[s]) < n &&
-                     static_cast<std::size_t>(net_.j[s]) < n,
-                 Input, "{}: spring {} ({} - {}, k = {}) is invalid", name_, s, net_.i[s], net_.j[s], net_.k[s]);
+    STRATA_CHECK(net_.k[s] > 0 && net_.i[s] >= 0 && net_.j[s] >= 0 &&
+                     static_cast<std::size_t>(net_.i[s]) < n && static_cast<std::size_t>(net_.j[s]) < n,
+                 Input, "{}: spring {} ({} - {}, k = {}) is invalid", name_, s, net_.i[s], net_.j[s],
+                 net_.k[s]);
   u_.assign(n, 0.0);
   v_.assign(n, 0.0);
   a_.assign(n, 0.0);
@@ -34,8 +36,8 @@ void SpringNetworkPartition::add_load(std::size_t d, std::function<double(double
 }
 
 void SpringNetworkPartition::make_external(std::size_t d) {
-  STRATA_CHECK(!initialised_ && d < dofs(), Input, "{}: make_external({}) after initialise or out of range", name_,
-               d);
+  STRATA_CHECK(!initialised_ && d < dofs(), Input, "{}: make_external({}) after initialise or out of range",
+               name_, d);
   if (external_[d]) return;
   external_[d] = 1;
   ext_list_.push_back(d);
@@ -62,7 +64,8 @@ double SpringNetworkPartition::omega_bound() const {
     row[static_cast<std::size_t>(net_.i[s])] += 2 * net_.k[s];
     row[static_cast<std::size_t>(net_.j[s])] += 2 * net_.k[s];
   }
-  for (std::size_t s = 0; s < net_.ground_k.size(); ++s) row[static_cast<std::size_t>(net_.ground_i[s])] += net_.ground_k[s];
+  for (std::size_t s = 0; s < net_.ground_k.size(); ++s)
+    row[static_cast<std::size_t>(net_.ground_i[s])] += net_.ground_k[s];
   double w2 = 0;
   for (std::size_t d = 0; d < dofs(); ++d)
     if (!external_[d]) w2 = std::max(w2, row[d] / net_.mass[d]);
@@ -85,7 +88,8 @@ double SpringNetworkPartition::omega_max_exact() const {
     t.emplace_back(a, b, -k);
     t.emplace_back(b, a, -k);
   }
-  for (std::size_t s = 0; s < net_.ground_k.size(); ++s) t.emplace_back(net_.ground_i[s], net_.ground_i[s], net_.ground_k[s]);
+  for (std::size_t s = 0; s < net_.ground_k.size(); ++s)
+    t.emplace_back(net_.ground_i[s], net_.ground_i[s], net_.ground_k[s]);
   fem::SparseMatrix K(n, n);
   K.setFromTriplets(t.begin(), t.end());
   const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(net_.mass.data(), n);
@@ -128,7 +132,8 @@ void SpringNetworkPartition::initialise() {
   const double dtc = critical_dt();
   if (dt_ > dtc) {
     const std::string what = fmt::format(
-        "{} partition: dt = {:.4g} s exceeds its critical time step {:.4g} s (ratio {:.3f}; ω_max <= {:.4g} rad/s, "
+        "{} partition: dt = {:.4g} s exceeds its critical time step {:.4g} s (ratio {:.3f}; ω_max <= {:.4g} "
+        "rad/s, "
         "velocity Verlet)",
         name_, dt_, dtc, dt_ / dtc, omega_bound());
     if (!allow_unstable_) fail(ErrorKind::Input, "{}; lower dt or set allow_unstable", what);
@@ -192,7 +197,8 @@ void SpringNetworkPartition::check_blowup() {
   const double budget = 10 * (energy0_ + work_abs_) + 1e-30;
   if (!(e <= budget))
     fail(ErrorKind::Numerical,
-         "{} partition blow-up at step {}, t = {:.6g} s: energy {:.4g} J exceeds {:.4g} J (10 x (initial {:.4g} J + "
+         "{} partition blow-up at step {}, t = {:.6g} s: energy {:.4g} J exceeds {:.4g} J (10 x (initial "
+         "{:.4g} J + "
          "work {:.4g} J)); dt = {:.4g} s, critical dt = {:.4g} s; last good step {}",
          name_, step_, time_, e, budget, energy0_, work_abs_, dt_, critical_dt(), last_good_);
   last_good_ = step_;

@@ -114,7 +114,7 @@ class Model final : public ModelBase {
   // ---- set-up state --------------------------------------------------------------------
   std::vector<SolidLatticeLaw> laws;  // nmat × nmat
   int nmat = 0;
-  std::vector<BcParticle> bcp;        // sorted by index
+  std::vector<BcParticle> bcp;  // sorted by index
   bool sorted = false, initialised = false, bcs_dirty = true;
   double dt_crit = 0, lam_est = 0, lam_bound = 0;
 
@@ -194,7 +194,8 @@ class Model final : public ModelBase {
     STRATA_CHECK(n() < 0xfffffff0u, Input, "add_particle: too many particles (uint32 indices)");
     STRATA_CHECK(materials.size() <= 255, Input, "at most 255 materials");
     const double d = 2 * r;
-    if (mass <= 0) mass = materials[m].density * (D == 2 ? std::sqrt(3.0) / 2 * d * d : d * d * d / std::sqrt(2.0));
+    if (mass <= 0)
+      mass = materials[m].density * (D == 2 ? std::sqrt(3.0) / 2 * d * d : d * d * d / std::sqrt(2.0));
     STRATA_CHECK(mass > 0 && std::isfinite(mass), Input,
                  "add_particle: mass {} must be > 0 (kg); is the material's density set?", mass);
     for (int a = 0; a < D; ++a) {
@@ -340,7 +341,8 @@ class Model final : public ModelBase {
         if (p[0] > p[1]) std::swap(p[0], p[1]);
       std::vector<std::uint32_t> order(pairs.size());
       std::iota(order.begin(), order.end(), 0u);
-      std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) { return pairs[a] < pairs[b]; });
+      std::sort(order.begin(), order.end(),
+                [&](std::uint32_t a, std::uint32_t b) { return pairs[a] < pairs[b]; });
       PairList nb;
       nb.off.assign(N + 1, 0);
       nb.j.resize(pairs.size());
@@ -637,7 +639,8 @@ class Model final : public ModelBase {
     const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((n() + kBlock - 1) / kBlock);
     const std::ptrdiff_t by_size =
         static_cast<std::ptrdiff_t>(n()) / std::max(1, settings.min_particles_per_thread);
-    return static_cast<int>(std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>({nt, nb, std::max<std::ptrdiff_t>(by_size, 1)})));
+    return static_cast<int>(std::max<std::ptrdiff_t>(
+        1, std::min<std::ptrdiff_t>({nt, nb, std::max<std::ptrdiff_t>(by_size, 1)})));
   }
 
   void build_plan(int nt) {
@@ -668,8 +671,10 @@ class Model final : public ModelBase {
         plan.base_c[t + 1] = plan.base_c[t] + plan.own_c[t].size();
       }
       auto thread_of = [&](std::uint32_t j) {
-        return static_cast<int>(std::upper_bound(plan.begin.begin(), plan.begin.end(), static_cast<std::ptrdiff_t>(j)) -
-                                plan.begin.begin()) - 1;
+        return static_cast<int>(
+                   std::upper_bound(plan.begin.begin(), plan.begin.end(), static_cast<std::ptrdiff_t>(j)) -
+                   plan.begin.begin()) -
+               1;
       };
       // incoming lists in ascending owner order (bonds before contacts of the same owner)
       for (int t = 0; t < nt; ++t) {
@@ -821,7 +826,8 @@ class Model final : public ModelBase {
           } else {
             int broke = 0;
             const SolidLatticeLaw& law = one_law ? law0 : law_of(p, j);
-            const double en = pair_force<kEnergy>(XC, VC, R, p, j, bst[k], &bus[std::size_t{k} * kNs], law, dt, Fb, broke);
+            const double en =
+                pair_force<kEnergy>(XC, VC, R, p, j, bst[k], &bus[std::size_t{k} * kNs], law, dt, Fb, broke);
             if (broke) [[unlikely]]
               record(t, c.step, p, j, broke);
             if constexpr (kEnergy) eb += en;
@@ -839,7 +845,8 @@ class Model final : public ModelBase {
           } else {
             int broke = 0;
             const SolidLatticeLaw& law = one_law ? law0 : law_of(p, j);
-            const double en = pair_force<kEnergy>(XC, VC, R, p, j, cst[k], &cus[std::size_t{k} * kNs], law, dt, Fb, broke);
+            const double en =
+                pair_force<kEnergy>(XC, VC, R, p, j, cst[k], &cus[std::size_t{k} * kNs], law, dt, Fb, broke);
             if constexpr (kEnergy) eb += en;
             for (int a = 0; a < D; ++a) FA[a][j] -= Fb[a];
           }
@@ -941,9 +948,15 @@ class Model final : public ModelBase {
   template <bool kEnergy>
   void dispatch(const Ctx& c) {
     switch (settings.damping) {
-      case Damping::None: step_once<Damping::None, kEnergy>(c); break;
-      case Damping::Viscous: step_once<Damping::Viscous, kEnergy>(c); break;
-      case Damping::Local: step_once<Damping::Local, kEnergy>(c); break;
+      case Damping::None:
+        step_once<Damping::None, kEnergy>(c);
+        break;
+      case Damping::Viscous:
+        step_once<Damping::Viscous, kEnergy>(c);
+        break;
+      case Damping::Local:
+        step_once<Damping::Local, kEnergy>(c);
+        break;
     }
   }
 
@@ -951,7 +964,8 @@ class Model final : public ModelBase {
     std::vector<BreakEvent> fresh;
     for (auto& buf : evbuf) {
       for (const RawEvent& r : buf)
-        fresh.push_back({r.step, {r.pos[0], r.pos[1], r.pos[2]}, static_cast<BreakMode>(r.mode), id[r.i], id[r.j]});
+        fresh.push_back(
+            {r.step, {r.pos[0], r.pos[1], r.pos[2]}, static_cast<BreakMode>(r.mode), id[r.i], id[r.j]});
       buf.clear();
     }
     std::sort(fresh.begin(), fresh.end(), [](const BreakEvent& a, const BreakEvent& b) {
@@ -1019,7 +1033,8 @@ class Model final : public ModelBase {
     if (nan_seen || !std::isfinite(ke) || !std::isfinite(eb) || (energy_valid && ke > budget)) {
       merge_events();
       fail(ErrorKind::Numerical,
-           "blow-up at step {}, t={:.6g} s: kinetic energy {:.4g} J, stored energy {:.4g} J, work input {:.4g} J "
+           "blow-up at step {}, t={:.6g} s: kinetic energy {:.4g} J, stored energy {:.4g} J, work input "
+           "{:.4g} J "
            "(dt = {:.4g} s, critical dt = {:.4g} s); last good step {}",
            step_, time_, ke, eb, w, settings.dt, dt_crit, last_good);
     }
@@ -1030,7 +1045,8 @@ class Model final : public ModelBase {
   void initialise() override {
     STRATA_CHECK(n() > 0, Input, "initialise: the model has no particles");
     STRATA_CHECK(!materials.empty(), Input, "initialise: no material");
-    STRATA_CHECK(settings.dt > 0 && std::isfinite(settings.dt), Input, "dt = {} must be > 0 (s)", settings.dt);
+    STRATA_CHECK(settings.dt > 0 && std::isfinite(settings.dt), Input, "dt = {} must be > 0 (s)",
+                 settings.dt);
     STRATA_CHECK(settings.local_alpha >= 0 && settings.local_alpha < 1, Input,
                  "local_alpha = {} must be in [0, 1)", settings.local_alpha);
     STRATA_CHECK(settings.viscous_c >= 0, Input, "viscous_c = {} must be >= 0 (N·s/m)", settings.viscous_c);
@@ -1063,7 +1079,8 @@ class Model final : public ModelBase {
     if (settings.dt > dt_crit) {
       if (!settings.allow_unstable)
         fail(ErrorKind::Numerical,
-             "dt = {:.4g} s exceeds the critical time step {:.4g} s (ratio {:.3f}); lower dt or set allow_unstable",
+             "dt = {:.4g} s exceeds the critical time step {:.4g} s (ratio {:.3f}); lower dt or set "
+             "allow_unstable",
              settings.dt, dt_crit, settings.dt / dt_crit);
       log::warn("dt = {:.4g} s exceeds the critical time step {:.4g} s (ratio {:.3f}): the run may blow up",
                 settings.dt, dt_crit, settings.dt / dt_crit);
@@ -1273,7 +1290,8 @@ class Model final : public ModelBase {
   double dry_bond_energy() const {
     return par::parallel_sum<double>(static_cast<std::ptrdiff_t>(n()), [&](std::ptrdiff_t p) {
       double e = 0;
-      dry_pairs(static_cast<std::size_t>(p), [&](std::uint32_t, const double*, double en, std::uint8_t, const double*, bool) { e += en; });
+      dry_pairs(static_cast<std::size_t>(p),
+                [&](std::uint32_t, const double*, double en, std::uint8_t, const double*, bool) { e += en; });
       double F[D] = {};
       return e + wall_energy_and_force(static_cast<std::size_t>(p), F);
     });
@@ -1349,7 +1367,8 @@ class Model final : public ModelBase {
     std::size_t c = 0;
     for (const auto* L : {&bonds, &contacts})
       for (std::size_t k = 0; k < L->size(); ++k)
-        if ((L->st[k] & pair_state::kKindMask) != pair_state::kIntact && (L->st[k] & pair_state::kTouching)) ++c;
+        if ((L->st[k] & pair_state::kKindMask) != pair_state::kIntact && (L->st[k] & pair_state::kTouching))
+          ++c;
     return c;
   }
   const std::vector<BreakEvent>& breaks() const override { return events; }
@@ -1436,8 +1455,13 @@ class Model final : public ModelBase {
           const double ft = F[a] + fn * nv[a] / l;
           fs2 += ft * ft;
         }
-        out.push_back({static_cast<std::uint32_t>(p), j, static_cast<PairKind>(s0 & pair_state::kKindMask),
-                       (s0 & pair_state::kTouching) != 0, (s0 & pair_state::kReclosed) != 0, fn, std::sqrt(fs2),
+        out.push_back({static_cast<std::uint32_t>(p),
+                       j,
+                       static_cast<PairKind>(s0 & pair_state::kKindMask),
+                       (s0 & pair_state::kTouching) != 0,
+                       (s0 & pair_state::kReclosed) != 0,
+                       fn,
+                       std::sqrt(fs2),
                        {F[0], F[1], D == 3 ? F[D - 1] : 0.0}});
       }
     return out;

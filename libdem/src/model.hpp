@@ -31,14 +31,14 @@ struct PairList {
 
 /// Boundary condition of one particle (only particles with a condition have one).
 struct BcParticle {
-  std::uint32_t index = 0;        // internal index
-  std::uint8_t mode[3]{};         // 0 free, 1 fixed, 2 velocity, 3 step displacement
-  double value[3]{};              // velocity (mode 2) or increment (mode 3)
-  std::int64_t every[3]{};        // steps between increments (mode 3)
-  int history = -1;               // force history index
-  double dx_prev[3]{};            // last step's displacement (trapezoid work)
-  double f_int[3]{};              // last internal force
-  double w_ahead = 0;             // work booked for the half interval after the last step
+  std::uint32_t index = 0;  // internal index
+  std::uint8_t mode[3]{};   // 0 free, 1 fixed, 2 velocity, 3 step displacement
+  double value[3]{};        // velocity (mode 2) or increment (mode 3)
+  std::int64_t every[3]{};  // steps between increments (mode 3)
+  int history = -1;         // force history index
+  double dx_prev[3]{};      // last step's displacement (trapezoid work)
+  double f_int[3]{};        // last internal force
+  double w_ahead = 0;       // work booked for the half interval after the last step
 };
 
 struct BcSpec {
@@ -62,11 +62,11 @@ struct Wall {
 
 /// Per-block accumulators (padded to a cache line).
 struct alignas(64) BlockAcc {
-  double work = 0;       // prescribed motion, applied forces, walls (accumulated)
-  double dissipated = 0; // damping (accumulated)
-  double ke = 0;         // kinetic energy at the last energy step
-  double eb = 0;         // pair + wall energy at the last energy step
-  double vmax2 = 0;      // largest |v|² in the last step
+  double work = 0;        // prescribed motion, applied forces, walls (accumulated)
+  double dissipated = 0;  // damping (accumulated)
+  double ke = 0;          // kinetic energy at the last energy step
+  double eb = 0;          // pair + wall energy at the last energy step
+  double vmax2 = 0;       // largest |v|² in the last step
 };
 
 /// The run state of a Model<D>, by reference, for checkpoints (state.cpp). Together with
@@ -115,7 +115,8 @@ class ModelBase {
 
   virtual int dim() const = 0;
   virtual void reserve(std::size_t n) = 0;
-  virtual std::size_t add_particle(std::array<double, 3> x, double r, int mat, std::uint32_t g, double mass) = 0;
+  virtual std::size_t add_particle(std::array<double, 3> x, double r, int mat, std::uint32_t g,
+                                   double mass) = 0;
   virtual std::size_t particle_count() const = 0;
   virtual void bond_touching_pairs(double tol) = 0;
   virtual void set_velocity(std::size_t id, std::array<double, 3> v) = 0;

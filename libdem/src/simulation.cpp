@@ -32,8 +32,8 @@ int Simulation::add_material(const Material& m) {
   return static_cast<int>(m_->materials.size()) - 1;
 }
 void Simulation::reserve(std::size_t n) { m_->reserve(n); }
-std::size_t Simulation::add_particle(std::array<double, 3> x, double radius, int material, std::uint32_t groups,
-                                     double mass) {
+std::size_t Simulation::add_particle(std::array<double, 3> x, double radius, int material,
+                                     std::uint32_t groups, double mass) {
   return m_->add_particle(x, radius, material, groups, mass);
 }
 std::size_t Simulation::particle_count() const { return m_->particle_count(); }
@@ -90,8 +90,8 @@ void Simulation::force_history(const std::string& group, std::vector<double> tim
   m_->bc_specs.push_back({detail::BcSpec::Force, mask_of(*this, group), 0, {}, 0, h});
   m_->bcs_changed();
 }
-void Simulation::add_wall(std::array<double, 3> point, std::array<double, 3> normal, std::array<double, 3> velocity,
-                          double stiffness) {
+void Simulation::add_wall(std::array<double, 3> point, std::array<double, 3> normal,
+                          std::array<double, 3> velocity, double stiffness) {
   double l = std::sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2]);
   STRATA_CHECK(l > 0, Input, "add_wall: the normal must not be zero");
   STRATA_CHECK(stiffness > 0, Input, "add_wall: stiffness = {} must be > 0 (N/m)", stiffness);
@@ -136,7 +136,9 @@ double Simulation::kinetic_energy() const { return m_->kinetic_energy(); }
 double Simulation::bond_energy() const { return m_->bond_energy(); }
 double Simulation::external_work() const { return m_->external_work(); }
 double Simulation::damping_dissipation() const { return m_->damping_dissipation(); }
-std::size_t Simulation::broken_count(BreakMode mode) const { return m_->broken_count(static_cast<int>(mode)); }
+std::size_t Simulation::broken_count(BreakMode mode) const {
+  return m_->broken_count(static_cast<int>(mode));
+}
 std::size_t Simulation::broken_count() const { return m_->broken_count(0); }
 std::size_t Simulation::bond_count() const { return m_->bond_count(); }
 std::size_t Simulation::contact_count() const { return m_->contact_count(); }

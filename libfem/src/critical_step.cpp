@@ -16,7 +16,8 @@ double explicit_dt_crit(double omega_max, double alpha, double beta) {
   return central_difference_dt_crit(omega_max, rayleigh_damping_ratio(omega_max, alpha, beta));
 }
 
-double element_omega2_bound(const Mesh& mesh, const Eigen::VectorXd& mass, const std::vector<char>& constrained) {
+double element_omega2_bound(const Mesh& mesh, const Eigen::VectorXd& mass,
+                            const std::vector<char>& constrained) {
   const int dim = mesh.dim;
   const std::size_t nn = mesh.nodes();
   // Pass 1 (serial, element order): per node, the sums that define each element's share.
@@ -53,8 +54,8 @@ double element_omega2_bound(const Mesh& mesh, const Eigen::VectorXd& mass, const
         for (int c = 0; c < dim; ++c) tr += em.K[a * dim + c][a * dim + c];
         const double Mi = mass[static_cast<Eigen::Index>(i * dim)];
         const double share = !massless_element[i] && own_sum[i] > 0 ? Mi * em.m[a] / own_sum[i]
-                             : trace_sum[i] > 0                      ? Mi * tr / trace_sum[i]
-                                                                     : 0.0;
+                             : trace_sum[i] > 0                     ? Mi * tr / trace_sum[i]
+                                                                    : 0.0;
         const double inv = share > 0 ? 1 / std::sqrt(share) : (tr > 0 ? INFINITY : 0.0);
         for (int c = 0; c < dim; ++c) {
           const std::size_t d = i * static_cast<std::size_t>(dim) + static_cast<std::size_t>(c);

@@ -36,13 +36,15 @@ void elasticity_matrix(const Material& m, ElementType t, double* D) {
 
 double p_wave_speed(const Material& m, ElementType t) {
   switch (t) {
-    case ElementType::Bar: return std::sqrt(m.E / m.rho);
+    case ElementType::Bar:
+      return std::sqrt(m.E / m.rho);
     case ElementType::Tri3:
       if (m.plane == PlaneMode::Stress) return std::sqrt(m.E / (m.rho * (1 - m.nu * m.nu)));
       [[fallthrough]];
     case ElementType::Tet4:
       return std::sqrt(m.E * (1 - m.nu) / (m.rho * (1 + m.nu) * (1 - 2 * m.nu)));
-    case ElementType::Spring: return 0;
+    case ElementType::Spring:
+      return 0;
   }
   return 0;
 }
@@ -73,8 +75,11 @@ void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e
   const int npe = nodes_per_element(block.type), dim = mesh.dim;
   const Material& mat = block.material;
   out.nd = npe * dim;
-  for (int a = 0; a < npe; ++a) out.node[a] = block.conn[e * static_cast<std::size_t>(npe) + static_cast<std::size_t>(a)];
-  auto X = [&](int a, int c) { return mesh.x[static_cast<std::size_t>(c)][static_cast<std::size_t>(out.node[a])]; };
+  for (int a = 0; a < npe; ++a)
+    out.node[a] = block.conn[e * static_cast<std::size_t>(npe) + static_cast<std::size_t>(a)];
+  auto X = [&](int a, int c) {
+    return mesh.x[static_cast<std::size_t>(c)][static_cast<std::size_t>(out.node[a])];
+  };
 
   switch (block.type) {
     case ElementType::Spring:
@@ -103,14 +108,15 @@ void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e
       for (int a = 0; a < 2; ++a)
         for (int b = 0; b < 2; ++b)
           for (int i = 0; i < dim; ++i)
-            for (int j = 0; j < dim; ++j) out.K[a * dim + i][b * dim + j] = (a == b ? 1 : -1) * k * n[i] * n[j];
+            for (int j = 0; j < dim; ++j)
+              out.K[a * dim + i][b * dim + j] = (a == b ? 1 : -1) * k * n[i] * n[j];
       return;
     }
     case ElementType::Tri3: {
       const double x1 = X(0, 0), y1 = X(0, 1), x2 = X(1, 0), y2 = X(1, 1), x3 = X(2, 0), y3 = X(2, 1);
       const double two_a = (x2 - x1) * (y3 - y1) - (x3 - x1) * (y2 - y1);
-      STRATA_CHECK(std::abs(two_a) > 0, Input, "tri3 element {} (nodes {} {} {}) has zero area", e, out.node[0],
-                   out.node[1], out.node[2]);
+      STRATA_CHECK(std::abs(two_a) > 0, Input, "tri3 element {} (nodes {} {} {}) has zero area", e,
+                   out.node[0], out.node[1], out.node[2]);
       const double b[3] = {y2 - y3, y3 - y1, y1 - y2}, c[3] = {x3 - x2, x1 - x3, x2 - x1};
       double B[3][6] = {};
       for (int a = 0; a < 3; ++a) {
@@ -131,8 +137,8 @@ void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e
       for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 3; ++c) J(c, a) = X(a + 1, c) - X(0, c);
       const double det = J.determinant();
-      STRATA_CHECK(std::abs(det) > 0, Input, "tet4 element {} (nodes {} {} {} {}) has zero volume", e, out.node[0],
-                   out.node[1], out.node[2], out.node[3]);
+      STRATA_CHECK(std::abs(det) > 0, Input, "tet4 element {} (nodes {} {} {} {}) has zero volume", e,
+                   out.node[0], out.node[1], out.node[2], out.node[3]);
       const Eigen::Matrix3d Ji = J.inverse();  // rows: gradients of the natural coordinates
       double g[4][3];
       for (int c = 0; c < 3; ++c) {

@@ -7,10 +7,14 @@ namespace strata::fem {
 
 std::string to_string(ElementType t) {
   switch (t) {
-    case ElementType::Spring: return "spring";
-    case ElementType::Bar: return "bar";
-    case ElementType::Tri3: return "tri3";
-    case ElementType::Tet4: return "tet4";
+    case ElementType::Spring:
+      return "spring";
+    case ElementType::Bar:
+      return "bar";
+    case ElementType::Tri3:
+      return "tri3";
+    case ElementType::Tet4:
+      return "tet4";
   }
   return "?";
 }
@@ -33,7 +37,8 @@ void Mesh::validate() const {
                "mesh: coordinate arrays have different lengths");
   STRATA_CHECK(point_mass.empty() || point_mass.size() == nodes(), Input,
                "mesh: {} point masses for {} nodes", point_mass.size(), nodes());
-  for (double m : point_mass) STRATA_CHECK(m >= 0 && std::isfinite(m), Input, "mesh: point mass {} kg < 0", m);
+  for (double m : point_mass)
+    STRATA_CHECK(m >= 0 && std::isfinite(m), Input, "mesh: point mass {} kg < 0", m);
   for (const ElementBlock& b : blocks) {
     const int npe = nodes_per_element(b.type);
     STRATA_CHECK(b.conn.size() % static_cast<std::size_t>(npe) == 0, Input,
@@ -59,8 +64,8 @@ void Mesh::validate() const {
         if (b.type == ElementType::Tet4)
           STRATA_CHECK(dim == 3, Input, "mesh: tet4 elements need dim = 3 (mesh has dim = {})", dim);
         STRATA_CHECK(m.E > 0 && m.rho >= 0 && m.thickness > 0, Input,
-                     "mesh: {} needs E > 0 (Pa), rho >= 0, thickness > 0; got {}, {}, {}", to_string(b.type), m.E,
-                     m.rho, m.thickness);
+                     "mesh: {} needs E > 0 (Pa), rho >= 0, thickness > 0; got {}, {}, {}", to_string(b.type),
+                     m.E, m.rho, m.thickness);
         STRATA_CHECK(m.nu > -1 && m.nu < 0.5, Input, "mesh: nu = {} must be in (-1, 0.5)", m.nu);
         break;
     }

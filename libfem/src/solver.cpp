@@ -11,9 +11,12 @@ namespace strata::fem {
 
 std::string to_string(Scheme s) {
   switch (s) {
-    case Scheme::CentralDifference: return "central-difference";
-    case Scheme::ExplicitNewmark: return "explicit-newmark";
-    case Scheme::ImplicitNewmark: return "implicit-newmark";
+    case Scheme::CentralDifference:
+      return "central-difference";
+    case Scheme::ExplicitNewmark:
+      return "explicit-newmark";
+    case Scheme::ImplicitNewmark:
+      return "implicit-newmark";
   }
   return "?";
 }
@@ -22,8 +25,10 @@ Scheme scheme_from_string(std::string_view s) {
   if (s == "central-difference") return Scheme::CentralDifference;
   if (s == "explicit-newmark" || s == "pc-newmark") return Scheme::ExplicitNewmark;
   if (s == "implicit-newmark") return Scheme::ImplicitNewmark;
-  fail(ErrorKind::Input, "unknown FEM scheme '{}': use central-difference, explicit-newmark (pc-newmark) or "
-                         "implicit-newmark", s);
+  fail(ErrorKind::Input,
+       "unknown FEM scheme '{}': use central-difference, explicit-newmark (pc-newmark) or "
+       "implicit-newmark",
+       s);
 }
 
 struct Solver::Factor {
@@ -38,22 +43,23 @@ Solver::Solver(Mesh mesh, SolverSettings settings) : mesh_(std::move(mesh)), set
   const SolverSettings& s = settings_;
   STRATA_CHECK(s.dt > 0 && std::isfinite(s.dt), Input, "FEM dt = {} must be > 0 (s)", s.dt);
   STRATA_CHECK(s.rayleigh_alpha >= 0 && s.rayleigh_beta >= 0, Input,
-               "Rayleigh damping alpha = {} (1/s), beta = {} (s) must be >= 0", s.rayleigh_alpha, s.rayleigh_beta);
+               "Rayleigh damping alpha = {} (1/s), beta = {} (s) must be >= 0", s.rayleigh_alpha,
+               s.rayleigh_beta);
   STRATA_CHECK(s.check_every > 0, Input, "check_every = {} must be > 0", s.check_every);
   if (s.scheme == Scheme::ExplicitNewmark)
-    STRATA_CHECK(s.gamma == 0.5 && s.beta >= 0 && s.beta <= 0.5, Input,
-                 "explicit predictor-corrector Newmark needs gamma = 1/2 (second order) and 0 <= beta <= 1/2; got "
-                 "beta = {}, gamma = {}",
-                 s.beta, s.gamma);
+    STRATA_CHECK(
+        s.gamma == 0.5 && s.beta >= 0 && s.beta <= 0.5, Input,
+        "explicit predictor-corrector Newmark needs gamma = 1/2 (second order) and 0 <= beta <= 1/2; got "
+        "beta = {}, gamma = {}",
+        s.beta, s.gamma);
   if (s.scheme == Scheme::ImplicitNewmark)
-    STRATA_CHECK(s.gamma >= 0.5 && s.beta > 0, Input, "implicit Newmark needs gamma >= 1/2 and beta > 0; got {} {}",
-                 s.beta, s.gamma);
+    STRATA_CHECK(s.gamma >= 0.5 && s.beta > 0, Input,
+                 "implicit Newmark needs gamma >= 1/2 and beta > 0; got {} {}", s.beta, s.gamma);
   sys_ = assemble(mesh_);
   const auto n = static_cast<std::size_t>(sys_.K.rows());
   is_prescribed_.assign(n, 0);
   prescribed_index_.assign(n, kNone);
   u_ = v_ = a_ = f_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(n));
-
 }
 
 const StabilityInfo& Solver::stability() const {
@@ -67,7 +73,7 @@ const StabilityInfo& Solver::stability() const {
     stab_.omega_bound = std::numeric_limits<double>::quiet_NaN();  // massless nodes: implicit only
   }
   stab_.explicit_dt_crit = explicit_dt_crit(stab_.omega_bound, s.rayleigh_alpha, s.rayleigh_beta);
-  stab_.dt_crit = is_explicit(s.scheme)        ? stab_.explicit_dt_crit
+  stab_.dt_crit = is_explicit(s.scheme)   ? stab_.explicit_dt_crit
                   : 2 * s.beta >= s.gamma ? std::numeric_limits<double>::infinity()
                                           : newmark_dt_crit(stab_.omega_bound, s.beta, s.gamma);
   stab_valid_ = true;
@@ -117,13 +123,15 @@ void Solver::check_dt() {
   stability();
   if (!(s.dt > stab_.dt_crit)) return;
   const std::string what = fmt::format(
-      "FEM dt = {:.4g} s exceeds the critical time step {:.4g} s of the {} scheme (ratio {:.3f}; ω_max <= {:.4g} "
+      "FEM dt = {:.4g} s exceeds the critical time step {:.4g} s of the {} scheme (ratio {:.3f}; ω_max <= "
+      "{:.4g} "
       "rad/s from element eigenvalues{})",
       s.dt, stab_.dt_crit, to_string(s.scheme), s.dt / stab_.dt_crit, stab_.omega_bound,
       s.rayleigh_alpha > 0 || s.rayleigh_beta > 0 ? ", with Rayleigh damping" : "");
   if (!s.allow_unstable)
-    fail(ErrorKind::Input, "{}; lower dt to <= {:.4g} s, use implicit-newmark (beta = 1/4, gamma = 1/2), or set "
-                           "allow_unstable",
+    fail(ErrorKind::Input,
+         "{}; lower dt to <= {:.4g} s, use implicit-newmark (beta = 1/4, gamma = 1/2), or set "
+         "allow_unstable",
          what, stab_.dt_crit);
   log::warn("{}: running anyway as asked; the run may blow up", what);
 }
@@ -135,8 +143,8 @@ void Solver::initialise() {
   for (Eigen::Index i = 0; i < n; ++i) {
     if (is_prescribed_[static_cast<std::size_t>(i)]) continue;
     if (is_explicit(settings_.scheme))
-      STRATA_CHECK(sys_.mass[i] > 0, Input, "FEM: free DOF {} has no mass; explicit schemes need mass on every DOF",
-                   i);
+      STRATA_CHECK(sys_.mass[i] > 0, Input,
+                   "FEM: free DOF {} has no mass; explicit schemes need mass on every DOF", i);
     inv_mass_[i] = sys_.mass[i] > 0 ? 1 / sys_.mass[i] : 0.0;
   }
   const double dt = settings_.dt, al = settings_.rayleigh_alpha, br = settings_.rayleigh_beta;
@@ -156,8 +164,9 @@ void Solver::initialise() {
     A += D;
     factor_ = std::make_unique<Factor>();
     factor_->ldlt.compute(A);
-    STRATA_CHECK(factor_->ldlt.info() == Eigen::Success, Numerical,
-                 "FEM: factorising M + γ dt C + β dt² K failed (is the model held against rigid motion or massive?)");
+    STRATA_CHECK(
+        factor_->ldlt.info() == Eigen::Success, Numerical,
+        "FEM: factorising M + γ dt C + β dt² K failed (is the model held against rigid motion or massive?)");
   }
   // initial acceleration a0 = M⁻¹(F(0) − K u0 − C v0) on free DOFs
   loads_at(time_, f_);
@@ -280,7 +289,8 @@ void Solver::check_blowup() {
   const double budget = settings_.energy_factor * (energy0_ + work_abs_) + energy_tiny_;
   if (!(e <= budget))
     fail(ErrorKind::Numerical,
-         "FEM blow-up at step {}, t = {:.6g} s: energy {:.4g} J exceeds {:.4g} J ({} x (initial {:.4g} J + work "
+         "FEM blow-up at step {}, t = {:.6g} s: energy {:.4g} J exceeds {:.4g} J ({} x (initial {:.4g} J + "
+         "work "
          "{:.4g} J)); dt = {:.4g} s, explicit critical dt = {:.4g} s, scheme {}; last good step {}",
          step_, time_, e, budget, settings_.energy_factor, energy0_, work_abs_, settings_.dt,
          stab_.explicit_dt_crit, to_string(settings_.scheme), last_good_);
@@ -303,8 +313,8 @@ LanczosResult Solver::omega_max_exact(int max_iterations) const {
 Eigen::VectorXd static_solve(const Assembled& sys, const std::vector<char>& prescribed,
                              const Eigen::VectorXd& u_prescribed, const Eigen::VectorXd& f) {
   const Eigen::Index n = sys.K.rows();
-  STRATA_CHECK(static_cast<Eigen::Index>(prescribed.size()) == n && u_prescribed.size() == n && f.size() == n, Input,
-               "static_solve: vectors must have {} entries", n);
+  STRATA_CHECK(static_cast<Eigen::Index>(prescribed.size()) == n && u_prescribed.size() == n && f.size() == n,
+               Input, "static_solve: vectors must have {} entries", n);
   Eigen::VectorXd up = Eigen::VectorXd::Zero(n);
   for (Eigen::Index i = 0; i < n; ++i)
     if (prescribed[static_cast<std::size_t>(i)]) up[i] = u_prescribed[i];

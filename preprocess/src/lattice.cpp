@@ -76,7 +76,8 @@ Lattice hex2d_rows(int rows, int columns, double d, double x0, double y0, bool s
 
 Lattice close_packed_box(Packing packing, std::array<double, 3> lo, std::array<double, 3> size, double d) {
   STRATA_CHECK(d > 0 && size[0] >= d && size[1] >= d && size[2] >= d, Input,
-               "close packing: box {} x {} x {} must hold a sphere of diameter {}", size[0], size[1], size[2], d);
+               "close packing: box {} x {} x {} must hold a sphere of diameter {}", size[0], size[1], size[2],
+               d);
   Lattice l;
   l.dim = 3;
   l.radius = 0.5 * d;

@@ -14,9 +14,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
-#include <fstream>
 #include <random>
 
 using namespace strata;
@@ -41,8 +41,11 @@ constexpr double kD = 1e-3;
 /// form within a few hundred steps (viscous damping, contact detection, Verlet rebuilds).
 Simulation build_2d() {
   const preprocess::Lattice lat = preprocess::hex2d_rows(30, 28, kD);
-  Simulation sim(2, Settings{.dt = 1e-12, .damping = Settings::Damping::Viscous, .viscous_c = 1.16e3,
-                             .energy_check_every = 100, .min_particles_per_thread = 1});
+  Simulation sim(2, Settings{.dt = 1e-12,
+                             .damping = Settings::Damping::Viscous,
+                             .viscous_c = 1.16e3,
+                             .energy_check_every = 100,
+                             .min_particles_per_thread = 1});
   const int mat = sim.add_material(c1_material());
   for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
   sim.add_to_group(preprocess::top_row(lat), "top");
@@ -60,8 +63,11 @@ Simulation build_2d() {
 Simulation build_3d() {
   const preprocess::Lattice lat =
       preprocess::close_packed_box(preprocess::Packing::FCC, {0, 0, 0}, {6e-3, 6e-3, 6e-3}, kD);
-  Simulation sim(3, Settings{.dt = 1e-12, .damping = Settings::Damping::Local, .local_alpha = 0.3,
-                             .gravity = {0, 0, -9.81}, .energy_check_every = 50,
+  Simulation sim(3, Settings{.dt = 1e-12,
+                             .damping = Settings::Damping::Local,
+                             .local_alpha = 0.3,
+                             .gravity = {0, 0, -9.81},
+                             .energy_check_every = 50,
                              .min_particles_per_thread = 1});
   const int mat = sim.add_material(c1_material());
   double xmax = -1;
@@ -92,9 +98,10 @@ struct Outcome {
 };
 
 Outcome outcome(const Simulation& s) {
-  return {s.state_hash(),        s.step_count(),   s.time(),          s.kinetic_energy(),
-          s.bond_energy(),       s.external_work(), s.damping_dissipation(), s.broken_count(),
-          s.contact_count(),     s.last_good_step(), s.breaks(),        s.group_force("top")};
+  return {s.state_hash(),          s.step_count(),   s.time(),
+          s.kinetic_energy(),      s.bond_energy(),  s.external_work(),
+          s.damping_dissipation(), s.broken_count(), s.contact_count(),
+          s.last_good_step(),      s.breaks(),       s.group_force("top")};
 }
 
 void expect_same(const Outcome& a, const Outcome& b) {
@@ -162,8 +169,8 @@ void via_memory(const Simulation& from, Simulation& to) {
 void via_hdf5(const Simulation& from, Simulation& to) {
   const fs::path f = temp_file("state.h5");
   {
-    io::CheckpointWriter w(f, {"test", "fingerprint", from.dim(), from.particle_count(), from.step_count(),
-                               from.time()});
+    io::CheckpointWriter w(
+        f, {"test", "fingerprint", from.dim(), from.particle_count(), from.step_count(), from.time()});
     from.save_state(w);
     w.commit();
   }

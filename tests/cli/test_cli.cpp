@@ -226,7 +226,8 @@ TEST(Cli, ReportRefusesThePapersUnstableStep) {
 
 TEST(Cli, ReportWritesTheSweepTables) {
   const fs::path d = temp_dir("report");
-  const auto r = strata("report chain6 --eta 1 --eta 20 --modes serial --duration 2 --no-plot -o " + d.string());
+  const auto r =
+      strata("report chain6 --eta 1 --eta 20 --modes serial --duration 2 --no-plot -o " + d.string());
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(d / "chain6_sweep.csv"));
   EXPECT_TRUE(fs::exists(d / "chain6_sweep.md"));
@@ -236,8 +237,8 @@ TEST(Cli, ReportWritesTheSweepTables) {
 // ---- checkpoints, restart, interrupted and killed runs -------------------------------------
 
 std::string check_series(const fs::path& pvd, std::size_t& frames);  // series_check.cpp
-bool have_hdf5();                                                     // series_check.cpp
-long long checkpoint_step(const fs::path& file);                      // series_check.cpp
+bool have_hdf5();                                                    // series_check.cpp
+long long checkpoint_step(const fs::path& file);                     // series_check.cpp
 
 namespace {
 
@@ -434,8 +435,8 @@ TEST(Cli, FramesBySimulatedTimeAndByBrokenBonds) {
   const auto by_breaks = strata("run " + f.string() + " -o " + (d / "b").string() +
                                 " --set output.frame_every_breaks=25 --set output.probe_every=10");
   ASSERT_EQ(by_breaks.status, 0) << by_breaks.output;
-  const long broken = std::stol(summary_field(d / "b", "broken_tension")) +
-                      std::stol(summary_field(d / "b", "broken_shear"));
+  const long broken =
+      std::stol(summary_field(d / "b", "broken_tension")) + std::stol(summary_field(d / "b", "broken_shear"));
   const int frames = pvd_frames(d / "b" / "particles.pvd");
   EXPECT_GE(broken, 50) << "the test must break bonds";
   EXPECT_GE(frames, 3);
@@ -450,7 +451,8 @@ TEST(Cli, KilledRunContinuesFromItsLastPeriodicCheckpoint) {
   if (!have_hdf5()) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
   const fs::path d = temp_dir("resume");
   std::string text = endless_scene();
-  text.replace(text.find("frames = 100000"), 15, "frames = 100000\ncheckpoint_every = 300\nprobe_every = 100");
+  text.replace(text.find("frames = 100000"), 15,
+               "frames = 100000\ncheckpoint_every = 300\nprobe_every = 100");
   const fs::path f = write(d, "scene.toml", text);
   const pid_t pid = spawn({"run", f.string(), "-o", (d / "res").string()}, d / "log.txt");
   ASSERT_GT(pid, 0);
@@ -467,8 +469,9 @@ TEST(Cli, KilledRunContinuesFromItsLastPeriodicCheckpoint) {
   ASSERT_EQ(at % 300, 0);
 
   const std::string steps = std::to_string(at + 500);
-  const auto rest = strata("run " + f.string() + " -o " + (d / "res").string() + " --set solver.steps=" + steps +
-                           " --set output.frames=5 --restart " + (d / "res" / "checkpoint.h5").string());
+  const auto rest =
+      strata("run " + f.string() + " -o " + (d / "res").string() + " --set solver.steps=" + steps +
+             " --set output.frames=5 --restart " + (d / "res" / "checkpoint.h5").string());
   ASSERT_EQ(rest.status, 0) << rest.output;
   const auto straight = strata("run " + f.string() + " -o " + (d / "straight").string() +
                                " --set output.vtk=false --set solver.steps=" + steps);

@@ -108,8 +108,9 @@ TEST(Couple, CoupledStabilityNamesTheFemExplicitLimit) {
   m.net.ground_k[0] = 1e6;
   const int eta = 20;  // dt_FEM = 2e-3 s
   {
-    CoupledChain c = split_chain(m, {0, 1, 2, 3}, {2, 3, 4, 5},
-                                 SplitSettings{.dt_dem = 1e-4, .eta = eta, .fem_scheme = Scheme::ExplicitNewmark});
+    CoupledChain c =
+        split_chain(m, {0, 1, 2, 3}, {2, 3, 4, 5},
+                    SplitSettings{.dt_dem = 1e-4, .eta = eta, .fem_scheme = Scheme::ExplicitNewmark});
     Coupler cp(*c.fem, *c.dem, c.overlap, eta);
     try {
       cp.initialise();
@@ -122,8 +123,9 @@ TEST(Couple, CoupledStabilityNamesTheFemExplicitLimit) {
     }
   }
   {
-    CoupledChain c = split_chain(m, {0, 1, 2, 3}, {2, 3, 4, 5},
-                                 SplitSettings{.dt_dem = 1e-4, .eta = eta, .fem_scheme = Scheme::ImplicitNewmark});
+    CoupledChain c =
+        split_chain(m, {0, 1, 2, 3}, {2, 3, 4, 5},
+                    SplitSettings{.dt_dem = 1e-4, .eta = eta, .fem_scheme = Scheme::ImplicitNewmark});
     Coupler cp(*c.fem, *c.dem, c.overlap, eta);
     EXPECT_NO_THROW(cp.initialise());
     EXPECT_TRUE(cp.stability().ok);
@@ -139,9 +141,10 @@ TEST(Couple, BlowUpInParallelRunIsReported) {
   ChainModel m = chain6_model();
   const double dt_dem = 1.05 * 2 / std::sqrt(4.0);  // DEM limit 2/ω, ω = 2√(k/m) = 2
   for (Execution mode : {Execution::Serial, Execution::Parallel}) {
-    CoupledChain c = split_chain(m, {0, 1, 2, 3}, {2, 3, 4, 5},
-                                 SplitSettings{.dt_dem = dt_dem, .eta = 1, .fem_scheme = Scheme::ImplicitNewmark,
-                                               .allow_unstable = true});
+    CoupledChain c = split_chain(
+        m, {0, 1, 2, 3}, {2, 3, 4, 5},
+        SplitSettings{
+            .dt_dem = dt_dem, .eta = 1, .fem_scheme = Scheme::ImplicitNewmark, .allow_unstable = true});
     Coupler cp(*c.fem, *c.dem, c.overlap, 1, mode);
     cp.initialise(/*allow_unstable=*/true);
     try {

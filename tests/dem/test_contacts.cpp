@@ -44,7 +44,8 @@ void gas(int dim) {
       for (std::size_t j = i + 1; j < x.size(); ++j) {
         double d2 = 0;
         for (int a = 0; a < dim; ++a) d2 += (x[i][a] - x[j][a]) * (x[i][a] - x[j][a]);
-        if (d2 < (r[i] + r[j]) * (r[i] + r[j])) brute.push_back({std::min(ids[i], ids[j]), std::max(ids[i], ids[j])});
+        if (d2 < (r[i] + r[j]) * (r[i] + r[j]))
+          brute.push_back({std::min(ids[i], ids[j]), std::max(ids[i], ids[j])});
       }
     std::sort(brute.begin(), brute.end());
     EXPECT_EQ(sim.touching_pairs(), brute) << "probe " << probe;

@@ -24,8 +24,11 @@ Outcome run(int dim, int threads, int chunks = 1) {
   preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(44, 40, kC1d)
                                      : preprocess::close_packed_box(preprocess::Packing::FCC, {0, 0, 0},
                                                                     {12e-3, 12e-3, 12e-3}, kC1d);
-  Simulation sim(dim, Settings{.dt = 1e-12, .damping = Settings::Damping::Viscous, .viscous_c = 1.16e3,
-                               .energy_check_every = 100, .min_particles_per_thread = 1});
+  Simulation sim(dim, Settings{.dt = 1e-12,
+                               .damping = Settings::Damping::Viscous,
+                               .viscous_c = 1.16e3,
+                               .energy_check_every = 100,
+                               .min_particles_per_thread = 1});
   add_lattice(sim, lat, sim.add_material(c1_material()));
   sim.add_to_group(preprocess::top_row(lat), "top");
   sim.add_to_group(preprocess::bottom_row(lat), "bottom");
@@ -40,8 +43,8 @@ Outcome run(int dim, int threads, int chunks = 1) {
   sim.set_dt(0.5 * sim.critical_dt());
   const std::int64_t steps = dim == 2 ? 1200 : 600;
   for (int c = 0; c < chunks; ++c) sim.run(steps / chunks);
-  Outcome o{sim.state_hash(),       sim.broken_count(),  sim.contact_count(),       sim.kinetic_energy(),
-            sim.bond_energy(),      sim.external_work(), sim.damping_dissipation(), sim.breaks()};
+  Outcome o{sim.state_hash(),  sim.broken_count(),  sim.contact_count(),       sim.kinetic_energy(),
+            sim.bond_energy(), sim.external_work(), sim.damping_dissipation(), sim.breaks()};
   par::set_threads(0);
   return o;
 }

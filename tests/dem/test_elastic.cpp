@@ -40,8 +40,10 @@ double slope(const std::vector<double>& x, const std::vector<double>& u) {
 // block in every direction), away from the platens and the free sides.
 Measured measure(int dim, const preprocess::Lattice& lat, double cross_section) {
   const Material m = c1_material(false);
-  Simulation sim(dim, Settings{.dt = 1e-12, .damping = Settings::Damping::Local, .local_alpha = 0.7,
-                               .contact_detection = false});
+  Simulation sim(
+      dim,
+      Settings{
+          .dt = 1e-12, .damping = Settings::Damping::Local, .local_alpha = 0.7, .contact_detection = false});
   add_lattice(sim, lat, sim.add_material(m));
   sim.add_to_group(preprocess::top_row(lat), "top");
   sim.add_to_group(preprocess::bottom_row(lat), "bottom");
@@ -108,8 +110,8 @@ Measured measure(int dim, const preprocess::Lattice& lat, double cross_section) 
     e_lat += slope(coord[a], disp[a]) / ax;
     s_lat += sig[a] / ax;
   }
-  std::printf("interior stress axial %.5e lateral %.5e, platen stress %.5e, strains %.4e %.4e\n", sig[ax], s_lat,
-              platen, e_axial, e_lat);
+  std::printf("interior stress axial %.5e lateral %.5e, platen stress %.5e, strains %.4e %.4e\n", sig[ax],
+              s_lat, platen, e_axial, e_lat);
   return {sig[ax] / -e_axial, -e_lat / e_axial, s_lat / sig[ax]};
 }
 }  // namespace
@@ -144,7 +146,8 @@ TEST(Elastic, HcpBlockAlongCAxisMatchesLatticeConstants) {
   // block gives ν 4 % low; the lateral interior stress is 0.3 % of the axial one).
   const double kn = 6.587e10, ks = 2.371e10, d = kC1d;
   const double E = 6 * std::sqrt(2.0) * kn * (kn + ks) / (d * (5 * kn + ks)), nu = (kn - ks) / (5 * kn + ks);
-  const auto lat = preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {20e-3, 20e-3, 20e-3}, d);
+  const auto lat =
+      preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {20e-3, 20e-3, 20e-3}, d);
   const double area = static_cast<double>(preprocess::top_layer(lat).size()) * std::sqrt(3.0) / 2 * d * d;
   const Measured r = measure(3, lat, area);
   EXPECT_NEAR(r.E / E, 1.0, 0.03) << "E = " << r.E << " expected " << E;

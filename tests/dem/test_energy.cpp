@@ -18,14 +18,15 @@ struct Drift {
 // shear mode) excites the lattice; no damping, no contacts. Returns the largest deviation
 // of KE + Eb - W from its value at the first probe, relative to that value.
 Drift run_block(int dim, double dt_factor, bool with_platens, std::int64_t steps, std::int64_t chunk) {
-  preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(20, 20, kC1d)
-                                     : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
-                                                                    {8e-3, 8e-3, 8e-3}, kC1d);
+  preprocess::Lattice lat =
+      dim == 2 ? preprocess::hex2d_rows(20, 20, kC1d)
+               : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {8e-3, 8e-3, 8e-3}, kC1d);
   Simulation sim(dim, Settings{.dt = 1e-12, .contact_detection = false, .energy_check_every = 500});
   add_lattice(sim, lat, sim.add_material(c1_material(false)));
   for (std::size_t i = 0; i < lat.size(); ++i) {
     const auto& p = lat.x[i];
-    sim.set_velocity(i, {0.05 * std::sin(p[1] * 300.0), 0.03 * std::cos(p[0] * 200.0), dim == 3 ? 0.02 * std::sin(p[0] * 250) : 0});
+    sim.set_velocity(i, {0.05 * std::sin(p[1] * 300.0), 0.03 * std::cos(p[0] * 200.0),
+                         dim == 3 ? 0.02 * std::sin(p[0] * 250) : 0});
   }
   if (with_platens) {
     sim.add_to_group(preprocess::top_row(lat), "top");
@@ -77,7 +78,9 @@ TEST(Energy, BlowUpIsDetected) {
   // dt = 1.5·dt_crit with allow_unstable: the highest mode grows; the energy check must
   // stop the run with a Numerical error naming the step.
   const auto lat = preprocess::hex2d_rows(12, 12, kC1d);
-  Simulation sim(2, Settings{.dt = 1e-12, .allow_unstable = true, .contact_detection = false, .energy_check_every = 100});
+  Simulation sim(
+      2,
+      Settings{.dt = 1e-12, .allow_unstable = true, .contact_detection = false, .energy_check_every = 100});
   add_lattice(sim, lat, sim.add_material(c1_material(false)));
   for (std::size_t i = 0; i < lat.size(); ++i) sim.set_velocity(i, {1e-3 * ((i % 2) ? 1 : -1), 0, 0});
   sim.bond_touching_pairs();

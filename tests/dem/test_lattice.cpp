@@ -3,8 +3,8 @@
 
 #include <strata/preprocess/lattice.hpp>
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <cmath>
 #include <map>
@@ -90,7 +90,8 @@ TEST(Lattice, HexLambdaFormulaMatchesBrillouinZoneScan) {
         const Eigen::Vector2d k(4 * std::numbers::pi * i / (n - 1), 4 * std::numbers::pi * j / (n - 1));
         Eigen::Matrix2d Dm = Eigen::Matrix2d::Zero();
         for (const auto& nb : a) {
-          const Eigen::Matrix2d Kb = kn * nb * nb.transpose() + ks * (Eigen::Matrix2d::Identity() - nb * nb.transpose());
+          const Eigen::Matrix2d Kb =
+              kn * nb * nb.transpose() + ks * (Eigen::Matrix2d::Identity() - nb * nb.transpose());
           Dm += 2 * (1 - std::cos(k.dot(nb))) * Kb;
         }
         best = std::max(best, Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>(Dm).eigenvalues()(1));
@@ -176,7 +177,7 @@ void check_bounds_against_dense(int dim, unsigned seed) {
   std::vector<double> mass_by_id;
   for (auto p : lat.x) {
     for (int a = 0; a < dim; ++a) p[a] += 0.04 * kC1d * u(rng);  // ±4 % perturbation
-    const double ms = c1_mass() * um(rng);                      // unequal masses
+    const double ms = c1_mass() * um(rng);                       // unequal masses
     mass_by_id.push_back(ms);
     sim.add_particle(p, lat.radius, mat, 0, ms);
   }

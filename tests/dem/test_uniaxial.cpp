@@ -63,9 +63,10 @@ Curve compress(bool strengthen, std::int64_t steps) {
 
 TEST(Uniaxial, C1TensileFirstThenPeakThenDropAndConjugateBands) {
   const Curve c = compress(false, 90000);
-  std::printf("first break at strain %.3e (mode %d), first shear %.3e, peak %.4e N/m at strain %.3e, final %.4e\n",
-              c.first_break_strain, static_cast<int>(c.first_mode), c.first_shear_strain, c.peak, c.peak_strain,
-              c.stress.back());
+  std::printf(
+      "first break at strain %.3e (mode %d), first shear %.3e, peak %.4e N/m at strain %.3e, final %.4e\n",
+      c.first_break_strain, static_cast<int>(c.first_mode), c.first_shear_strain, c.peak, c.peak_strain,
+      c.stress.back());
   // Elastic part: E·t from the first points within 5 % of SPEC C2's 9.236e10 N/m (the
   // dynamic loading and the discrete sampling cost a few per cent).
   EXPECT_NEAR(c.stress[3] / c.strain[3] / 9.236e10, 1.0, 0.05);

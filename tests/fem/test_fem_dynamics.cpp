@@ -114,7 +114,8 @@ TEST(FemDynamics, BarNaturalFrequency) {
 // Newmark (β = 1/4, γ = 1/2), on x'' + 4x = 0 from x = 1.
 TEST(FemDynamics, SecondOrderConvergenceInDt) {
   for (Scheme s : {Scheme::CentralDifference, Scheme::ExplicitNewmark, Scheme::ImplicitNewmark}) {
-    const double e1 = oscillator_error(s, 0.02), e2 = oscillator_error(s, 0.01), e3 = oscillator_error(s, 0.005);
+    const double e1 = oscillator_error(s, 0.02), e2 = oscillator_error(s, 0.01),
+                 e3 = oscillator_error(s, 0.005);
     EXPECT_GT(e1 / e2, 3.6) << to_string(s);
     EXPECT_LT(e1 / e2, 4.4) << to_string(s);
     EXPECT_GT(e2 / e3, 3.6) << to_string(s);
@@ -178,7 +179,9 @@ TEST(FemDynamics, DampingAwareLimit) {
   const double w = 2, beta_r = 0.3;
   const double dtc = explicit_dt_crit(w, 0, beta_r);
   EXPECT_NEAR(dtc, (2 / w) * (std::sqrt(1 + 0.09) - 0.3), 1e-15);
-  SolverSettings s{.scheme = Scheme::CentralDifference, .dt = 0.999 * dtc, .rayleigh_beta = beta_r,
+  SolverSettings s{.scheme = Scheme::CentralDifference,
+                   .dt = 0.999 * dtc,
+                   .rayleigh_beta = beta_r,
                    .allow_unstable = true};
   Solver ok = oscillator(4.0, 1.0, s);
   ok.initialise();
@@ -217,9 +220,10 @@ TEST(FemDynamics, CriticalStepElementBoundVersusExactVersusHOverC) {
     const double dt_exact = 2 / w_exact, dt_bound = 2 / w_bound, dt_hc = h_over_c_dt(*mesh);
     EXPECT_LE(dt_bound, dt_exact);
     EXPECT_GT(dt_hc, dt_exact) << "h/c would be conservative here; dim " << mesh->dim;
-    RecordProperty(mesh->dim == 2 ? "tri_bound_over_hc" : "tet_bound_over_hc", std::to_string(dt_bound / dt_hc));
-    std::printf("dim %d: dt bound %.4g, exact %.4g, h/c %.4g (exact/(h/c) = %.3f, bound/(h/c) = %.3f)\n", mesh->dim,
-                dt_bound, dt_exact, dt_hc, dt_exact / dt_hc, dt_bound / dt_hc);
+    RecordProperty(mesh->dim == 2 ? "tri_bound_over_hc" : "tet_bound_over_hc",
+                   std::to_string(dt_bound / dt_hc));
+    std::printf("dim %d: dt bound %.4g, exact %.4g, h/c %.4g (exact/(h/c) = %.3f, bound/(h/c) = %.3f)\n",
+                mesh->dim, dt_bound, dt_exact, dt_hc, dt_exact / dt_hc, dt_bound / dt_hc);
   }
 }
 

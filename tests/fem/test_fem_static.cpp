@@ -12,7 +12,9 @@
 using namespace strata::fem;
 
 namespace {
-std::vector<char> none(const Assembled& s) { return std::vector<char>(static_cast<std::size_t>(s.K.rows()), 0); }
+std::vector<char> none(const Assembled& s) {
+  return std::vector<char>(static_cast<std::size_t>(s.K.rows()), 0);
+}
 }  // namespace
 
 // Bar fixed at x = 0 with an axial tip load P: tip displacement P L / (E A).

@@ -15,9 +15,9 @@ namespace strata::scene {
 
 /// Where a value came from: a position in a scene file, or a `--set` override.
 struct SourcePos {
-  std::string file;  ///< scene file path as given, or "--set" for overrides
-  int line = 0;      ///< 1-based; 0 when unknown
-  int column = 0;    ///< 1-based; 0 when unknown
+  std::string file;     ///< scene file path as given, or "--set" for overrides
+  int line = 0;         ///< 1-based; 0 when unknown
+  int column = 0;       ///< 1-based; 0 when unknown
   std::string setting;  ///< for overrides: the "key=value" text as given to `--set`
   /// "scene.toml:42:17" (or "--set solver.dt=1" for an override)
   std::string str() const;
@@ -34,22 +34,22 @@ enum class Type {
   OutputPath,  ///< a path, relative to the scene file, that need not exist
   RealList,    ///< array of reals (integers accepted); optional fixed length
   StringList,
-  RealTable,   ///< array of arrays of reals, e.g. polygon vertices or force histories
+  RealTable,  ///< array of arrays of reals, e.g. polygon vertices or force histories
 };
 
 /// One declared key.
 struct KeySpec {
   std::string name;
   Type type = Type::Real;
-  std::string unit;            ///< "N/m", "s", "" for none
-  std::string doc;             ///< one or two sentences
+  std::string unit;  ///< "N/m", "s", "" for none
+  std::string doc;   ///< one or two sentences
   bool required = false;
   std::string default_value;   ///< TOML text of the default ("" when none or required)
   std::optional<double> min;   ///< numeric lower bound (also applied to list elements)
   std::optional<double> max;   ///< numeric upper bound
   bool min_exclusive = false;  ///< min is a strict bound (> instead of >=)
   bool max_exclusive = false;
-  std::vector<std::string> choices;  ///< for Choice and StringList elements (empty: any)
+  std::vector<std::string> choices;    ///< for Choice and StringList elements (empty: any)
   int length_min = 0, length_max = 0;  ///< for lists; for RealTable, of each row; 0: unbounded
   /// One component per axis: a RealList (or each RealTable row) must have as many entries as
   /// [scene].dimension; a StringList may only name axes of that dimension. List defaults are
@@ -85,12 +85,12 @@ struct Value {
   bool b = false;
   std::int64_t i = 0;
   double r = 0.0;
-  std::string s;                         ///< String, Choice, Path (resolved), OutputPath (resolved)
-  std::vector<double> reals;             ///< RealList
-  std::vector<std::string> strings;      ///< StringList
+  std::string s;                           ///< String, Choice, Path (resolved), OutputPath (resolved)
+  std::vector<double> reals;               ///< RealList
+  std::vector<std::string> strings;        ///< StringList
   std::vector<std::vector<double>> table;  ///< RealTable
   SourcePos pos;
-  bool given = false;                    ///< false: filled from the default
+  bool given = false;  ///< false: filled from the default
 };
 
 /// One validated table instance ([solver], or one [[region]] entry).

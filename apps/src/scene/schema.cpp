@@ -225,7 +225,8 @@ std::vector<TableSpec> make_schema() {
                .choices({"none", "cube", "sphere"})
                .def(R"("none")")
                .doc("Eccentric lattice (ECC4D, SPEC C4): move each particle's centroid by a random offset, "
-                    "uniform in a cube of half-side ra·R (cube, Type A) or uniform on a sphere (a circle in 2D) "
+                    "uniform in a cube of half-side ra·R (cube, Type A) or uniform on a sphere (a circle in "
+                    "2D) "
                     "of radius ra·R (sphere, Type B); bonds stay those of the regular lattice."),
            K("ra", Real)
                .ge(0)

@@ -26,10 +26,14 @@ enum class StateType : std::uint8_t { UInt8, UInt32, Int64, Float64 };
 /// "uint8", "uint32", "int64", "float64" (for messages).
 inline const char* state_type_name(StateType t) {
   switch (t) {
-    case StateType::UInt8: return "uint8";
-    case StateType::UInt32: return "uint32";
-    case StateType::Int64: return "int64";
-    case StateType::Float64: return "float64";
+    case StateType::UInt8:
+      return "uint8";
+    case StateType::UInt32:
+      return "uint32";
+    case StateType::Int64:
+      return "int64";
+    case StateType::Float64:
+      return "float64";
   }
   return "?";
 }
@@ -96,8 +100,8 @@ class StateReader {
   template <typename T>
   std::vector<T> get(const std::string& name, std::size_t expected) const {
     std::vector<T> out = get<T>(name);
-    STRATA_CHECK(out.size() == expected, IO, "state array '{}' has {} elements, expected {}", name, out.size(),
-                 expected);
+    STRATA_CHECK(out.size() == expected, IO, "state array '{}' has {} elements, expected {}", name,
+                 out.size(), expected);
     return out;
   }
   template <typename T>
@@ -127,10 +131,13 @@ class MemoryState final : public StateWriter, public StateReader {
     if (count) std::memcpy(e.bytes.data(), data, e.bytes.size());
   }
   bool has(const std::string& name) const override { return arrays_.count(name) > 0; }
-  std::size_t count(const std::string& name, StateType type) const override { return entry(name, type).count; }
+  std::size_t count(const std::string& name, StateType type) const override {
+    return entry(name, type).count;
+  }
   void get_array(const std::string& name, StateType type, void* data, std::size_t count) const override {
     const Entry& e = entry(name, type);
-    STRATA_CHECK(count == e.count, Internal, "state array '{}': {} elements asked, {} stored", name, count, e.count);
+    STRATA_CHECK(count == e.count, Internal, "state array '{}': {} elements asked, {} stored", name, count,
+                 e.count);
     if (count) std::memcpy(data, e.bytes.data(), e.bytes.size());
   }
   /// Names stored, sorted.
@@ -142,10 +149,13 @@ class MemoryState final : public StateWriter, public StateReader {
 
   static std::size_t element_size(StateType t) {
     switch (t) {
-      case StateType::UInt8: return 1;
-      case StateType::UInt32: return 4;
+      case StateType::UInt8:
+        return 1;
+      case StateType::UInt32:
+        return 4;
       case StateType::Int64:
-      case StateType::Float64: return 8;
+      case StateType::Float64:
+        return 8;
     }
     return 1;
   }

@@ -80,8 +80,8 @@ class Chain6Exact {
 /// 800..999, m_v = 0.05 kg, k_s = 2.49e6 N/m) on outer masses 101..300. A half-sine force
 /// pulse P(t) = amplitude·sin(π t / duration), 0 <= t <= duration, on outer mass 1 (free end).
 struct MetamaterialParams {
-  double pulse_amplitude = 100;    ///< N
-  double pulse_duration = 1e-3;    ///< s
+  double pulse_amplitude = 100;  ///< N
+  double pulse_duration = 1e-3;  ///< s
 };
 ChainModel metamaterial_model(const MetamaterialParams& p = {});
 /// FEM: outer 1..300 + resonators, plus outer 301 as external; DEM: outer 301..800, plus
@@ -93,12 +93,12 @@ std::int64_t metamaterial_dem_mass(int n);
 
 /// Stability numbers of the metamaterial chain at a DEM step.
 struct MetamaterialStability {
-  double omega_whole = 0;    ///< exact ω_max of the whole chain (Lanczos) (rad/s)
-  double dt_whole = 0;       ///< 2/ω_whole: explicit limit of a monolithic explicit run
+  double omega_whole = 0;        ///< exact ω_max of the whole chain (Lanczos) (rad/s)
+  double dt_whole = 0;           ///< 2/ω_whole: explicit limit of a monolithic explicit run
   double omega_whole_bound = 0;  ///< element (Gershgorin) bound of the whole chain
-  double omega_dem = 0;      ///< DEM partition bound 2√(k_n/m_s) (rad/s)
-  double dt_dem_crit = 0;    ///< 2/omega_dem
-  double omega_fem = 0;      ///< FEM partition exact ω_max (externals held)
+  double omega_dem = 0;          ///< DEM partition bound 2√(k_n/m_s) (rad/s)
+  double dt_dem_crit = 0;        ///< 2/omega_dem
+  double omega_fem = 0;          ///< FEM partition exact ω_max (externals held)
   double dt_fem_explicit = 0;
   std::string text(double dt_dem) const;
 };
@@ -117,11 +117,11 @@ struct SweepRow {
   std::string mode;  ///< serial / parallel / monolithic
   double dt_dem = 0, dt_fem = 0;
   std::int64_t dem_steps = 0, fem_steps = 0;
-  double err_max = 0;   ///< max |u − u_ref| over the run (m)
-  double err_rms = 0;   ///< RMS of u − u_ref over the samples (m)
-  double ref_max = 0;   ///< max |u_ref| (m): divide for relative errors
-  double wall_s = 0;    ///< wall time of the coupled run (initialise + steps), best of `repeats`
-  std::string probe;    ///< what was compared
+  double err_max = 0;               ///< max |u − u_ref| over the run (m)
+  double err_rms = 0;               ///< RMS of u − u_ref over the samples (m)
+  double ref_max = 0;               ///< max |u_ref| (m): divide for relative errors
+  double wall_s = 0;                ///< wall time of the coupled run (initialise + steps), best of `repeats`
+  std::string probe;                ///< what was compared
   std::vector<double> t, u, u_ref;  ///< the samples (kept for plots)
 };
 
@@ -130,9 +130,10 @@ struct SweepOptions {
   std::vector<Execution> modes{Execution::Serial, Execution::Parallel};
   double dt_dem = 0;    ///< 0: case default (chain6 1e-4 s; metamaterial 5e-5 s)
   double duration = 0;  ///< 0: case default (chain6 20 s; metamaterial 75 ms)
-  fem::Scheme fem_scheme = fem::Scheme::ExplicitNewmark;  ///< chain6 default; metamaterial forces implicit for η·dt above the limit
-  double dt_ref = 1e-6;  ///< metamaterial reference step (implicit Newmark)
-  int repeats = 1;       ///< runs per point; the fastest is kept
+  fem::Scheme fem_scheme = fem::Scheme::ExplicitNewmark;  ///< chain6 default; metamaterial forces implicit
+                                                          ///< for η·dt above the limit
+  double dt_ref = 1e-6;                                   ///< metamaterial reference step (implicit Newmark)
+  int repeats = 1;                                        ///< runs per point; the fastest is kept
   bool keep_samples = false;
   MetamaterialParams pulse;
 };

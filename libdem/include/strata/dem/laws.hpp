@@ -35,9 +35,9 @@ inline constexpr std::uint8_t kReclosed = 16;  ///< broken bond opened and touch
 /// What the law returns for one pair in one step.
 template <int NS>
 struct PairOutcome {
-  double fn = 0;      ///< normal force, compression positive (N)
-  double fs[NS]{};    ///< shear force components (N), in the frame the caller uses for us
-  int broke = 0;      ///< 0: no break this step; 1: tension; 2: shear
+  double fn = 0;    ///< normal force, compression positive (N)
+  double fs[NS]{};  ///< shear force components (N), in the frame the caller uses for us
+  int broke = 0;    ///< 0: no break this step; 1: tension; 2: shear
 };
 
 /// The solid-lattice law of SPEC C1 (Liu, Pollard & Shi 2013, eqs. 1-5).

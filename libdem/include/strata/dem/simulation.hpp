@@ -31,10 +31,10 @@ namespace strata::dem {
 /// Material of a particle; bonds and contacts between two materials use the pair rule in
 /// docs/dem.md (series stiffness, weaker strength, smaller friction).
 struct Material {
-  double density = 0;  ///< kg/m² in 2D (per unit thickness), kg/m³ in 3D
-  double kn = 0;       ///< normal stiffness Kn (N/m)
-  double ks = 0;       ///< shear stiffness Ks (N/m)
-  double friction = 0; ///< friction coefficient μ of broken bonds and contacts
+  double density = 0;   ///< kg/m² in 2D (per unit thickness), kg/m³ in 3D
+  double kn = 0;        ///< normal stiffness Kn (N/m)
+  double ks = 0;        ///< shear stiffness Ks (N/m)
+  double friction = 0;  ///< friction coefficient μ of broken bonds and contacts
   double tensile_strength = std::numeric_limits<double>::infinity();  ///< Fn_max (N)
   double shear_strength = std::numeric_limits<double>::infinity();    ///< Fs0 (N)
   /// false (default, SPEC C1 "paper" form): an intact bond breaks in shear when |Fs| > Fs0.
@@ -53,16 +53,16 @@ enum class PairKind : std::uint8_t { Intact = 0, BrokenTension = 1, BrokenShear 
 
 /// One bond break.
 struct BreakEvent {
-  std::int64_t step;                ///< step during which it broke (0-based)
-  std::array<double, 3> position;   ///< midpoint of the two centres at that step
+  std::int64_t step;               ///< step during which it broke (0-based)
+  std::array<double, 3> position;  ///< midpoint of the two centres at that step
   BreakMode mode;
-  std::uint32_t id_i, id_j;         ///< particle ids
+  std::uint32_t id_i, id_j;  ///< particle ids
 };
 
 /// Run settings.
 struct Settings {
-  double dt = 0;                    ///< time step (s)
-  bool allow_unstable = false;      ///< dt > critical_dt() warns instead of throwing
+  double dt = 0;                ///< time step (s)
+  bool allow_unstable = false;  ///< dt > critical_dt() warns instead of throwing
   enum class Damping { None, Viscous, Local };
   Damping damping = Damping::None;
   double viscous_c = 0;             ///< artificial viscosity c (N·s/m): F -= c·v (SPEC C1)
@@ -80,10 +80,10 @@ struct Settings {
 struct PairView {
   std::uint32_t i, j;  ///< internal indices (see ids())
   PairKind kind;
-  bool touching;       ///< broken bond / contact currently in contact
-  bool reclosed;       ///< broken bond that opened and has closed again
-  double fn;           ///< normal force (N, compression positive) at the last step's state
-  double fs;           ///< magnitude of the shear force (N)
+  bool touching;                     ///< broken bond / contact currently in contact
+  bool reclosed;                     ///< broken bond that opened and has closed again
+  double fn;                         ///< normal force (N, compression positive) at the last step's state
+  double fs;                         ///< magnitude of the shear force (N)
   std::array<double, 3> force_on_i;  ///< force vector the pair exerts on particle i (N)
 };
 
@@ -109,8 +109,8 @@ class Simulation {
   void reserve(std::size_t n);
   /// Adds a particle at rest; returns its id. mass <= 0: density × cell measure (2D:
   /// (√3/2)·d², the hex cell area, SPEC C1; 3D: d³/√2, the close-packed cell volume).
-  std::size_t add_particle(std::array<double, 3> x, double radius, int material,
-                           std::uint32_t groups = 0, double mass = 0);
+  std::size_t add_particle(std::array<double, 3> x, double radius, int material, std::uint32_t groups = 0,
+                           double mass = 0);
   std::size_t particle_count() const;
   /// Bonds every pair with |xi - xj| <= (ri + rj)(1 + tolerance). O(N) with a cell grid.
   void bond_touching_pairs(double tolerance = 1e-6);
@@ -132,16 +132,15 @@ class Simulation {
   void prescribe_velocity(const std::string& group, std::array<double, 3> v, unsigned axes);
   /// Holds the group fixed along the increment's non-zero axes and moves it by `increment`
   /// once every `every_steps` steps (SPEC C1 platens: 1.9e-9 m every 400 steps).
-  void step_displacement(const std::string& group, std::array<double, 3> increment,
-                         std::int64_t every_steps);
+  void step_displacement(const std::string& group, std::array<double, 3> increment, std::int64_t every_steps);
   /// Force on each particle of the group, piecewise linear in time between (times, forces),
   /// constant outside. A particle takes the last history given for one of its groups.
   void force_history(const std::string& group, std::vector<double> times,
                      std::vector<std::array<double, 3>> forces);
   /// Rigid frictionless plane through `point` with unit normal pointing to the particles'
   /// side, moving at `velocity`; penalty force k·δ·n with δ = r - (x - p)·n > 0.
-  void add_wall(std::array<double, 3> point, std::array<double, 3> normal,
-                std::array<double, 3> velocity, double stiffness);
+  void add_wall(std::array<double, 3> point, std::array<double, 3> normal, std::array<double, 3> velocity,
+                double stiffness);
 
   // ---- running -------------------------------------------------------------------------
   /// Sorts particles spatially, builds search structures, computes critical_dt() and

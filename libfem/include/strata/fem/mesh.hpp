@@ -52,7 +52,7 @@ struct ElementBlock {
 
 /// Nodes (SoA), optional point masses and element blocks.
 struct Mesh {
-  int dim = 2;                          ///< 1, 2 or 3 displacement components per node
+  int dim = 2;                           ///< 1, 2 or 3 displacement components per node
   std::array<std::vector<double>, 3> x;  ///< x[a][i]: coordinate a of node i (a < dim used)
   std::vector<double> point_mass;        ///< extra lumped mass per node (kg); empty = none
   std::vector<ElementBlock> blocks;

@@ -48,11 +48,11 @@ constexpr bool is_explicit(Scheme s) { return s != Scheme::ImplicitNewmark; }
 
 struct SolverSettings {
   Scheme scheme = Scheme::CentralDifference;
-  double dt = 0;        ///< time step (s), > 0
-  double beta = 0.25;   ///< Newmark β (both Newmark schemes)
-  double gamma = 0.5;   ///< Newmark γ (both Newmark schemes)
-  double rayleigh_alpha = 0;  ///< C = α·M + β_R·K: mass-proportional part (1/s)
-  double rayleigh_beta = 0;   ///< stiffness-proportional part (s)
+  double dt = 0;                ///< time step (s), > 0
+  double beta = 0.25;           ///< Newmark β (both Newmark schemes)
+  double gamma = 0.5;           ///< Newmark γ (both Newmark schemes)
+  double rayleigh_alpha = 0;    ///< C = α·M + β_R·K: mass-proportional part (1/s)
+  double rayleigh_beta = 0;     ///< stiffness-proportional part (s)
   bool allow_unstable = false;  ///< warn instead of refusing dt above the critical step
   int check_every = 100;        ///< steps between blow-up checks
   double energy_factor = 10;    ///< blow-up when energy > factor·(E0 + Σ|work|) + tiny

@@ -15,10 +15,10 @@ namespace strata::preprocess {
 /// Sites of a lattice.
 struct Lattice {
   int dim = 2;
-  double radius = 0;                          ///< d/2 (m)
-  std::vector<std::array<double, 3>> x;       ///< centres (z = 0 in 2D)
-  std::vector<std::int32_t> row;              ///< row within its layer (bottom row 0)
-  std::vector<std::int32_t> layer;            ///< layer along z (3D; 0 in 2D)
+  double radius = 0;                     ///< d/2 (m)
+  std::vector<std::array<double, 3>> x;  ///< centres (z = 0 in 2D)
+  std::vector<std::int32_t> row;         ///< row within its layer (bottom row 0)
+  std::vector<std::int32_t> layer;       ///< layer along z (3D; 0 in 2D)
   std::size_t size() const { return x.size(); }
   /// Frees the memory of the sites (e.g. once they are copied into a model).
   void release();
@@ -32,7 +32,8 @@ Lattice hex2d_box(double x0, double y0, double width, double height, double d);
 /// 2D hexagonal block of `rows` rows with lower-left disk centre at (x0 + d/2, y0 + d/2):
 /// even rows have `columns` disks, odd rows `columns - 1` when `shorter_odd_rows` (a block
 /// with straight sides, like SPEC C1) or `columns` otherwise.
-Lattice hex2d_rows(int rows, int columns, double d, double x0 = 0, double y0 = 0, bool shorter_odd_rows = true);
+Lattice hex2d_rows(int rows, int columns, double d, double x0 = 0, double y0 = 0,
+                   bool shorter_odd_rows = true);
 
 /// 3D stacking of close-packed layers.
 enum class Packing { HCP, FCC };
