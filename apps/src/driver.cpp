@@ -121,6 +121,7 @@ class RunOutput {
       : dir_(dir),
         out_(sc.table("output")),
         fields_(out_.strings("fields")),
+        title_(sc.table("scene").str("title")),
         particles_(dir, "particles", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh),
         bonds_(dir, "bonds", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh) {
     std::vector<std::string> cols{"step", "time"};
@@ -155,6 +156,17 @@ class RunOutput {
     w.put("driver/probes/step", probe_steps_);
   }
 
+  /// How pictures look: the scene's title and [output] render_field.
+  io::RenderStyle render_style() const {
+    io::RenderStyle style;
+    style.title = title_;
+    style.field = out_.str("render_field");
+    if (style.field == "displacement") style.field_scale = 1e3, style.unit = "mm";
+    if (style.field == "velocity") style.unit = "m/s";
+    if (style.field == "damage") style.range = std::array<double, 2>{0.0, 1.0};
+    return style;
+  }
+
   /// Step of the last frame written by this process (-1: none).
   std::int64_t last_frame_step() const { return last_frame_step_; }
   /// The last frame listed in the series, or an empty path.
@@ -185,9 +197,55 @@ class RunOutput {
   void frame(const BuiltModel& m) {
     last_frame_step_ = m.sim.step_count();
     if (!out_.boolean("vtk")) return;
-    const io::PointCloud pc = particle_frame(m.sim, fields_);
+    const io::PointCloud all = particle_frame(m.sim, fields_);
+    const io::PointCloud pc = select_particles(m.sim, all, selection_);
+    const io::LineSet bonds = bond_frame(m.sim, selection_.bonds);
     particles_.add_particles(m.sim.time(), pc);
-    bonds_.add_lines(m.sim.time(), pc, broken_bond_frame(m.sim));
+    bonds_.add_lines(m.sim.time(), all, bonds);
+#if STRATA_WITH_RENDER
+    if (out_.boolean("render") && out_.boolean("render_while_running")) {
+      io::RenderRequest req;
+      req.particles = &pc;
+      req.bonds = &bonds;
+      req.bond_points = &all;
+      req.png = dir_ / "png" / fmt::format("frame_{:06d}.png", particles_.frames().size() - 1);
+      req.style = render_style();
+      io::render_frame(req);
+      rendered_while_running_ = true;
+    }
+#endif
+  }
+
+  void set_selection(FrameSelection sel) { selection_ = std::move(sel); }
+
+  /// Particles and bonds the frames hold, from [output]; groups by name. Validates, so call
+  /// it before anything is written.
+  static FrameSelection selection(BuiltModel& m, const scene::Table& out) {
+    FrameSelection selection_;
+    const std::string& p = out.str("particles");
+    selection_.particles = p == "surface" ? FrameSelection::Particles::Surface
+                           : p == "none"  ? FrameSelection::Particles::None
+                                          : FrameSelection::Particles::All;
+    const std::string& b = out.str("bonds");
+    selection_.bonds = b == "all"    ? FrameSelection::Bonds::All
+                       : b == "none" ? FrameSelection::Bonds::None
+                                     : FrameSelection::Bonds::Broken;
+    for (const auto& g : out.strings("groups")) {
+      if (!m.groups.count(g)) out.fail("groups", fmt::format("no [[group]] or [[region]] is called '{}'", g));
+      selection_.group_mask |= 1u << m.sim.group_bit(g);
+    }
+    selection_.slice_thickness = out.real("slice_thickness");
+    for (std::size_t a = 0; a < 3; ++a) {
+      selection_.slice_point[a] = a < out.reals("slice_point").size() ? out.reals("slice_point")[a] : 0.0;
+      selection_.slice_normal[a] = a < out.reals("slice_normal").size() ? out.reals("slice_normal")[a] : 0.0;
+    }
+    double len = 0;
+    for (double c : selection_.slice_normal) len += c * c;
+    if (selection_.slice_thickness > 0 && len == 0)
+      out.fail("slice_normal", "the slice normal must not be zero");
+    for (double& c : selection_.slice_normal) c /= len > 0 ? std::sqrt(len) : 1.0;
+    if (selection_.particles == FrameSelection::Particles::Surface) selection_.find_surface(m.sim);
+    return selection_;
   }
 
   /// Writes what is known at the end of a run (or at a failure): breaks, summary, plots.
@@ -238,7 +296,7 @@ class RunOutput {
   void pictures(const scene::Scene& sc) {
     if (!out_.boolean("render")) return;
 #if STRATA_WITH_RENDER
-    const std::string title = sc.table("scene").str("title");
+    const std::string& title = title_;
     if (!stress_.empty()) {
       io::PlotRequest p;
       p.title = title.empty() ? "Axial stress against axial strain" : title;
@@ -264,14 +322,12 @@ class RunOutput {
       written_.push_back(p.png);
     }
     if (!particles_.frames().empty()) {
-      io::RenderStyle style;
-      style.title = title;
-      style.field = out_.str("render_field");
-      if (style.field == "displacement") style.field_scale = 1e3, style.unit = "mm";
-      if (style.field == "velocity") style.unit = "m/s";
-      if (style.field == "damage") style.field_label = "damage";
-      const auto pngs = io::render_series(particles_.pvd_path(), dir_ / "png", style, bonds_.pvd_path());
-      if (!pngs.empty()) written_.push_back(dir_ / "png" / "");
+      if (!rendered_while_running_) {
+        const auto pngs =
+            io::render_series(particles_.pvd_path(), dir_ / "png", render_style(), bonds_.pvd_path());
+        if (pngs.empty()) return;
+      }
+      written_.push_back(dir_ / "png" / "");
       if (out_.boolean("movie") && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
         written_.push_back(dir_ / "movie.mp4");
     }
@@ -297,6 +353,9 @@ class RunOutput {
   fs::path dir_;
   const scene::Table& out_;
   std::vector<std::string> fields_;
+  std::string title_;
+  FrameSelection selection_;
+  bool rendered_while_running_ = false;
   io::Series particles_, bonds_;
   std::optional<io::CsvWriter> probes_;
   std::vector<double> time_, kinetic_, bond_, work_, strain_, stress_;
@@ -593,12 +652,14 @@ int run_scene(const SceneOptions& opt) {
     m.sim.load_state(*ckpt);
     m.dt = m.sim.dt();
   }
+  FrameSelection selection = RunOutput::selection(m, o);
   const json model = model_json(m, sc);
   print_model(model);
 
   const fs::path dir = opt.output.empty() ? fs::path(o.str("directory")) : opt.output;
   fs::create_directories(dir);
   RunOutput out(dir, sc, m, ckpt.get());
+  out.set_selection(std::move(selection));
 
   const std::int64_t steps = m.steps;
   const std::int64_t first = m.sim.step_count();  // 0, or the checkpoint's step

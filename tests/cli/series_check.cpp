@@ -6,6 +6,9 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
+
+#include "series_check.hpp"
 
 /// Checks that every frame a .pvd lists exists and reads back as VTK PolyData; returns ""
 /// or what is wrong, and the number of frames listed in `frames`.
@@ -36,4 +39,12 @@ long long checkpoint_step(const std::filesystem::path& file) {
   } catch (const std::exception&) {
     return -1;
   }
+}
+
+/// Points, lines and point-array names of one written frame.
+FrameCounts frame_counts(const std::filesystem::path& vtp) {
+  const auto c = strata::io::read_vtp(vtp);
+  FrameCounts f{c.points.size(), c.lines.size(), {}};
+  for (const auto& a : c.points.point_data) f.arrays.push_back(a.name);
+  return f;
 }

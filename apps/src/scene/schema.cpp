@@ -488,6 +488,38 @@ std::vector<TableSpec> make_schema() {
                .def(R"(["id", "radius", "displacement", "velocity", "force", "group", "damage"])")
                .doc("Per-particle fields written to the VTK frames."),
            K("movie", Bool).def("true").doc("Join the pictures into an MP4 movie when ffmpeg is installed."),
+           K("render_while_running", Bool)
+               .def("false")
+               .doc("Render each frame to PNG as soon as it is written, so pictures of a long run can be "
+                    "watched while it goes on (each picture then has its own colour range, except for "
+                    "damage); otherwise all frames are rendered at the end with one colour range."),
+           K("particles", Choice)
+               .choices({"all", "surface", "none"})
+               .def(R"("all")")
+               .doc("Which particles the VTK frames hold: all; surface (the particles that had fewer "
+                    "bonds at the start than one inside the lattice: the skin of every region and of its "
+                    "holes); none. Large models can write only what a workstation can open."),
+           K("groups", StringList)
+               .def("[]")
+               .doc("Only particles of these [[group]]s or [[region]]s in the VTK frames; empty: all."),
+           K("slice_point", RealList, "m")
+               .per_axis()
+               .def("[0.0, 0.0, 0.0]")
+               .doc("A point of the slice plane (see slice_thickness)."),
+           K("slice_normal", RealList)
+               .per_axis()
+               .def("[0.0, 0.0, 1.0]")
+               .doc("Normal of the slice plane (see slice_thickness)."),
+           K("slice_thickness", Real, "m")
+               .ge(0)
+               .def("0.0")
+               .doc("Only particles whose centres lie within half this distance of the slice plane "
+                    "(slice_point, slice_normal) in the VTK frames; 0: no slice."),
+           K("bonds", Choice)
+               .choices({"broken", "all", "none"})
+               .def(R"("broken")")
+               .doc("Which bonds the bond frames hold: broken (cracks: tension, shear, closed again), all "
+                    "(also intact bonds, with their forces), none."),
        }});
 
   s.push_back(
