@@ -523,7 +523,7 @@ struct Cadence {
   Cadence(const scene::Table& o, std::int64_t total_steps, double time_step)
       : steps(total_steps), dt(time_step) {
     probe_every =
-        o.integer("probe_every") > 0 ? o.integer("probe_every") : std::max<std::int64_t>(1, steps / 2000);
+        o.integer("probe_every") > 0 ? o.integer("probe_every") : std::max<std::int64_t>(1, steps / 1000);
     checkpoint_every = o.integer("checkpoint_every");
     if (o.integer("frame_every_breaks") > 0) {
       frames = Frames::Breaks;

@@ -202,7 +202,7 @@ stress_strain = true
   EXPECT_EQ(rock.real("kn"), 6.587e10);
   EXPECT_EQ(rock.real("friction"), 0.239);
   EXPECT_EQ(rock.real("tensile_strength"), 1.252e4);
-  EXPECT_FALSE(rock.boolean("friction_strengthens_bonds"));
+  EXPECT_TRUE(rock.boolean("friction_strengthens_bonds"));
   const auto& soft = s.tables("material")[1];
   EXPECT_EQ(soft.real("ks"), 0.0);  // an integer where a real is expected
   EXPECT_EQ(soft.real("tensile_strength"), std::numeric_limits<double>::infinity());  // default: never breaks

@@ -37,9 +37,10 @@ struct Material {
   double friction = 0;  ///< friction coefficient μ of broken bonds and contacts
   double tensile_strength = std::numeric_limits<double>::infinity();  ///< Fn_max (N)
   double shear_strength = std::numeric_limits<double>::infinity();    ///< Fs0 (N)
-  /// false (default, SPEC C1 "paper" form): an intact bond breaks in shear when |Fs| > Fs0.
-  /// true: the limit is Fs0 + μ·max(Fn, 0).
-  bool friction_strengthens_bonds = false;
+  /// true (default, the paper's criterion (5)): an intact bond breaks in shear when
+  /// |Fs| > Fs0 + μ·max(Fn, 0); false: when |Fs| > Fs0. At the SPEC C1 settings true gives the
+  /// paper's curve (peak strain 3.06e-3 against 2.8e-3; false: 1.80e-3).
+  bool friction_strengthens_bonds = true;
 };
 
 /// Axes masks for boundary conditions.
