@@ -2,6 +2,7 @@
 // `strata bench dem` (apps/src/bench_dem.cpp).
 #include <strata/core/parallel.hpp>
 #include <strata/dem/laws.hpp>
+#include <strata/dem/presets.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/preprocess/lattice.hpp>
 
@@ -13,16 +14,7 @@
 using namespace strata;
 
 namespace {
-dem::Material c1() {
-  dem::Material m;
-  m.density = 2.65e3;
-  m.kn = 6.587e10;
-  m.ks = 2.371e10;
-  m.friction = 0.239;
-  m.tensile_strength = 1.252e4;
-  m.shear_strength = 3.690e4;
-  return m;
-}
+dem::Material c1() { return dem::spec_c1_rock(); }
 
 // The solid-lattice law alone on a stream of intact pairs (the hot path of the step loop).
 void BM_SolidLatticeLawIntact(benchmark::State& state) {

@@ -13,6 +13,7 @@
 #include <cstring>
 
 #include <strata/core/memory.hpp>
+#include <strata/dem/presets.hpp>
 
 namespace strata::app {
 namespace {}  // namespace
@@ -30,13 +31,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
 
   // SPEC C1 micro-parameters; 3D uses the same springs with ρ in kg/m³.
   const double d = 1e-3;
-  dem::Material m;
-  m.density = 2.65e3;
-  m.kn = 6.587e10;
-  m.ks = 2.371e10;
-  m.friction = 0.239;
-  m.tensile_strength = 1.252e4;
-  m.shear_strength = 3.690e4;
+  const dem::Material m = dem::spec_c1_rock();
   dem::Settings s;
   s.dt = 1e-15;  // replaced by 0.5·critical_dt below
   s.damping = dem::Settings::Damping::Viscous;

@@ -5,6 +5,7 @@
 #include <strata/core/error.hpp>
 #include <strata/core/parallel.hpp>
 #include <strata/core/state_io.hpp>
+#include <strata/dem/presets.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/io/checkpoint.hpp>
 #include <strata/io/csv.hpp>
@@ -25,16 +26,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Material c1_material() {  // SPEC C1 micro-parameters, breakable
-  Material m;
-  m.density = 2.65e3;
-  m.kn = 6.587e10;
-  m.ks = 2.371e10;
-  m.friction = 0.239;
-  m.tensile_strength = 1.252e4;
-  m.shear_strength = 3.690e4;
-  return m;
-}
+Material c1_material() { return strata::dem::spec_c1_rock(); }  // SPEC C1, breakable
 constexpr double kD = 1e-3;
 
 /// 2D: a C1 block squeezed fast between two platen rows so that bonds break and contacts

@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the DEM tests: C1 parameters and block builders.
 #include <strata/core/error.hpp>
+#include <strata/dem/presets.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/preprocess/lattice.hpp>
 
@@ -11,13 +12,8 @@ namespace strata::dem::test {
 
 /// SPEC C1 micro-parameters (Liu, Pollard & Shi 2013).
 inline Material c1_material(bool breakable = true) {
-  Material m;
-  m.density = 2.65e3;
-  m.kn = 6.587e10;
-  m.ks = 2.371e10;
-  m.friction = 0.239;
-  m.tensile_strength = breakable ? 1.252e4 : std::numeric_limits<double>::infinity();
-  m.shear_strength = breakable ? 3.690e4 : std::numeric_limits<double>::infinity();
+  Material m = spec_c1_rock();
+  if (!breakable) m.tensile_strength = m.shear_strength = std::numeric_limits<double>::infinity();
   return m;
 }
 inline constexpr double kC1d = 1e-3;
