@@ -158,12 +158,8 @@ class RunOutput {
 
   /// How pictures look: the scene's title and [output] render_field.
   io::RenderStyle render_style() const {
-    io::RenderStyle style;
+    io::RenderStyle style = field_style(out_.str("render_field"));
     style.title = title_;
-    style.field = out_.str("render_field");
-    if (style.field == "displacement") style.field_scale = 1e3, style.unit = "mm";
-    if (style.field == "velocity") style.unit = "m/s";
-    if (style.field == "damage") style.range = std::array<double, 2>{0.0, 1.0};
     return style;
   }
 

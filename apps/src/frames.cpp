@@ -127,4 +127,13 @@ io::LineSet bond_frame(const dem::Simulation& sim, FrameSelection::Bonds which) 
   return ls;
 }
 
+io::RenderStyle field_style(const std::string& field) {
+  io::RenderStyle style;
+  style.field = field;
+  if (field == "displacement") style.field_scale = 1e3, style.unit = "mm";
+  if (field == "velocity") style.unit = "m/s";
+  if (field == "damage") style.range = std::array<double, 2>{0.0, 1.0};
+  return style;
+}
+
 }  // namespace strata::app

@@ -2,6 +2,7 @@
 /// Converts the DEM state into io's neutral frames, with the selections of [output].
 #include <strata/dem/simulation.hpp>
 #include <strata/io/frame.hpp>
+#include <strata/io/render.hpp>
 
 #include <array>
 #include <string>
@@ -37,5 +38,9 @@ io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud
 /// Bonds as line cells with state (io::BondState codes), Fn and Fs, indexing the points of
 /// particle_frame: the broken ones (open or closed again), or all of them.
 io::LineSet bond_frame(const dem::Simulation& sim, FrameSelection::Bonds which);
+
+/// How pictures show a particle field (render_field / --field): its scale, unit and, for
+/// damage, the fixed range [0, 1]. Shared by `strata run` and `strata render`.
+io::RenderStyle field_style(const std::string& field);
 
 }  // namespace strata::app

@@ -6,15 +6,15 @@
 
 #include <cstdio>
 
+#include "frames.hpp"
+
 namespace strata::app {
 
 int render_series_cmd(const RenderOptions& opt) {
 #if STRATA_WITH_RENDER
-  io::RenderStyle style;
-  style.field = opt.field;
+  io::RenderStyle style = field_style(opt.field);
   style.width = opt.size.at(0);
   style.height = opt.size.at(1);
-  if (opt.field == "displacement") style.field_scale = 1e3, style.unit = "mm";
   const auto dir = opt.output.empty() ? opt.series.parent_path() / "png" : opt.output;
   // The bonds series written beside the particles, if there is one.
   auto bonds = opt.series.parent_path() / "bonds.pvd";
