@@ -107,8 +107,8 @@ class Model final : public ModelBase {
   std::array<std::vector<double>, D> x, v, x0, f;
   std::vector<double> im, rad;
   std::vector<std::uint32_t> id, grp;
-  std::vector<std::uint8_t> mat, flags;  // flags bit 0: particle has a boundary condition
-  std::vector<std::uint32_t> inv_cache;  // id -> internal index (built on demand)
+  std::vector<std::uint8_t> mat, flags;          // flags bit 0: particle has a boundary condition
+  mutable std::vector<std::uint32_t> inv_cache;  // id -> internal index (built on demand)
   PairList bonds, contacts;
 
   // ---- set-up state --------------------------------------------------------------------
@@ -243,15 +243,46 @@ class Model final : public ModelBase {
   }
 
   void set_velocity(std::size_t ident, std::array<double, 3> vel) override {
-    STRATA_CHECK(ident < n(), Input, "set_velocity: no particle with id {}", ident);
-    std::size_t i = ident;
-    if (id[i] != ident) {  // sorted: look the id up (inverse permutation cached on first use)
-      if (inv_cache.size() != n()) inv_cache = index_of_id();
-      i = inv_cache[ident];
-    }
+    const std::size_t i = index_of(ident, "set_velocity");
     for (int a = 0; a < D; ++a) v[a][i] = vel[a];
     energy_valid = false;
     budget_dirty = initialised;
+  }
+
+  /// Internal index of an id (the inverse permutation is cached on first use).
+  std::size_t index_of(std::size_t ident, const char* what) const {
+    STRATA_CHECK(ident < n(), Input, "{}: no particle with id {}", what, ident);
+    if (id[ident] == ident) return ident;
+    if (inv_cache.size() != n()) inv_cache = index_of_id();
+    return inv_cache[ident];
+  }
+
+  void set_kinematics(std::size_t ident, const std::array<double, 3>& u,
+                      const std::array<double, 3>& vel) override {
+    STRATA_CHECK(initialised, Input, "set_kinematics: call initialise() first");
+    if (bcs_dirty) resolve_bcs();
+    const std::size_t i = index_of(ident, "set_kinematics");
+    auto it = std::lower_bound(bcp.begin(), bcp.end(), static_cast<std::uint32_t>(i),
+                               [](const BcParticle& q, std::uint32_t k) { return q.index < k; });
+    STRATA_CHECK(it != bcp.end() && it->index == i, Input,
+                 "set_kinematics: particle {} is not driven (put it in a group passed to drive())", ident);
+    for (int a = 0; a < D; ++a) {
+      if (it->mode[a] != 2) continue;
+      x[a][i] = x0[a][i] + u[a];
+      v[a][i] = vel[a];
+      it->value[a] = vel[a];
+    }
+    energy_valid = false;
+  }
+
+  void kinematics(std::size_t ident, std::array<double, 3>& u, std::array<double, 3>& vel) const override {
+    const std::size_t i = index_of(ident, "kinematics");
+    u = {0, 0, 0};
+    vel = {0, 0, 0};
+    for (int a = 0; a < D; ++a) {
+      u[a] = initialised ? x[a][i] - x0[a][i] : 0.0;
+      vel[a] = v[a][i];
+    }
   }
 
   void add_group_bits(const std::vector<std::uint32_t>& ids, std::uint32_t mask) override {

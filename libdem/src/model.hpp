@@ -120,6 +120,10 @@ class ModelBase {
   virtual std::size_t particle_count() const = 0;
   virtual void bond_touching_pairs(double tol) = 0;
   virtual void set_velocity(std::size_t id, std::array<double, 3> v) = 0;
+  /// Driven particles (coupling): displacement and velocity of one particle by id.
+  virtual void set_kinematics(std::size_t id, const std::array<double, 3>& u,
+                              const std::array<double, 3>& v) = 0;
+  virtual void kinematics(std::size_t id, std::array<double, 3>& u, std::array<double, 3>& v) const = 0;
   virtual void add_group_bits(const std::vector<std::uint32_t>& ids, std::uint32_t mask) = 0;
   virtual std::vector<std::uint32_t> members(std::uint32_t mask) const = 0;
   virtual void bcs_changed() = 0;

@@ -70,6 +70,17 @@ void Simulation::prescribe_velocity(const std::string& group, std::array<double,
   m_->bc_specs.push_back({detail::BcSpec::Velocity, mask_of(*this, group), axes, v, 0, -1});
   m_->bcs_changed();
 }
+void Simulation::drive(const std::string& group, unsigned axes) {
+  m_->bc_specs.push_back({detail::BcSpec::Velocity, mask_of(*this, group), axes, {}, 0, -1});
+  m_->bcs_changed();
+}
+void Simulation::set_kinematics(std::size_t id, const std::array<double, 3>& u,
+                                const std::array<double, 3>& v) {
+  m_->set_kinematics(id, u, v);
+}
+void Simulation::kinematics(std::size_t id, std::array<double, 3>& u, std::array<double, 3>& v) const {
+  m_->kinematics(id, u, v);
+}
 void Simulation::step_displacement(const std::string& group, std::array<double, 3> increment,
                                    std::int64_t every_steps) {
   STRATA_CHECK(every_steps >= 1, Input, "step_displacement: every_steps = {} must be >= 1", every_steps);

@@ -138,6 +138,17 @@ class Simulation {
   /// constant outside. A particle takes the last history given for one of its groups.
   void force_history(const std::string& group, std::vector<double> times,
                      std::vector<std::array<double, 3>> forces);
+  /// Drives the group's particles along the given axes from outside (coupling, SPEC C3):
+  /// they take the displacement and velocity given by set_kinematics() and move with that
+  /// velocity until the next call, exerting their bond and contact forces on the others.
+  /// The work their motion does is counted as external work, like a prescribed velocity.
+  void drive(const std::string& group, unsigned axes);
+  /// Sets displacement u (from the initial position) and velocity v of a driven particle
+  /// along its driven axes; other axes are left alone. Needs an initialised model.
+  void set_kinematics(std::size_t id, const std::array<double, 3>& u, const std::array<double, 3>& v);
+  /// Displacement from the initial position and velocity (leapfrog: at the last half step)
+  /// of particle `id`; O(1) per call after the first.
+  void kinematics(std::size_t id, std::array<double, 3>& u, std::array<double, 3>& v) const;
   /// Rigid frictionless plane through `point` with unit normal pointing to the particles'
   /// side, moving at `velocity`; penalty force k·δ·n with δ = r - (x - p)·n > 0.
   void add_wall(std::array<double, 3> point, std::array<double, 3> normal, std::array<double, 3> velocity,
