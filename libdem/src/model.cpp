@@ -135,6 +135,23 @@ class Model final : public ModelBase {
     std::uint32_t i, j;
   };
   std::vector<std::vector<RawEvent>> evbuf;
+
+  /// Per-thread scratch of the bond pass of one block (see bond_block): the owner of each
+  /// bond, its force on the owner, its energy, and whether the scalar law must redo it.
+  struct Scratch {
+    std::vector<std::uint32_t> own;
+    std::array<std::vector<double>, D> fb;
+    std::vector<double> en;
+    std::vector<std::uint8_t> slow;
+    void fit(std::size_t m) {
+      if (own.size() >= m) return;
+      own.resize(m);
+      for (auto& a : fb) a.resize(m);
+      en.resize(m);
+      slow.resize(m);
+    }
+  };
+  std::vector<Scratch> scratch;
   std::vector<BreakEvent> events;
 
   // ---- thread plan (rebuilt when the thread count or the contact lists change) ---------
@@ -689,6 +706,7 @@ class Model final : public ModelBase {
     plan.base_b.assign(nt + 1, 0);
     plan.base_c.assign(nt + 1, 0);
     evbuf.resize(nt);
+    scratch.resize(nt);
     if (nt > 1) {
       for (int t = 0; t < nt; ++t) {
         const auto b = plan.begin[t], e = plan.begin[t + 1];
@@ -790,6 +808,119 @@ class Model final : public ModelBase {
     }
   }
 
+  // Bond pass of one block: the forces of the bonds owned by particles p0..pe-1 whose
+  // partner lies in this thread's range (j < e), before any of them moves. Intact bonds that
+  // stay intact (nearly all) go through a branch-free loop the compiler vectorises (gathers
+  // of the endpoints' positions and velocities); the others (broken bonds, bonds breaking
+  // now, pairs of two materials) are redone by the scalar law. Both evaluate the same
+  // expressions in the same order, so the results do not depend on which path a bond takes.
+  template <bool kEnergy>
+  void bond_block(int t, const Ctx& c, std::ptrdiff_t p0, std::ptrdiff_t pe, std::ptrdiff_t e) {
+    const std::uint32_t k0 = bonds.off[p0], k1 = bonds.off[pe];
+    const std::size_t m = k1 - k0;
+    Scratch& S = scratch[t];
+    S.fit(m);
+    std::uint32_t* __restrict own = S.own.data();
+    for (std::ptrdiff_t p = p0; p < pe; ++p)
+      for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
+        own[k - k0] = static_cast<std::uint32_t>(p);
+    const double* __restrict X[D];
+    const double* __restrict V[D];
+    double* __restrict FB[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = x[a].data();
+      V[a] = v[a].data();
+      FB[a] = S.fb[a].data();
+    }
+    const double* __restrict R = rad.data();
+    const std::uint32_t* __restrict bj = bonds.j.data() + k0;
+    const std::uint8_t* __restrict bst = bonds.st.data() + k0;
+    double* __restrict bus = bonds.us.data() + std::size_t{k0} * kNs;
+    double* __restrict EN = S.en.data();
+    std::uint8_t* __restrict slow = S.slow.data();
+    const SolidLatticeLaw& L = laws[0];
+    const double dt = c.dt, kn = L.kn, ks = L.ks, ks2 = ks * ks, mu = L.mu, fn_max = L.fn_max, fs0 = L.fs0;
+    const double mu_b = L.friction_strengthens_bonds ? mu : 0.0;  // intact-bond friction term
+    const std::uint32_t ee = static_cast<std::uint32_t>(e);
+    if (nmat == 1) {
+      // The law's intact branch (SolidLatticeLaw::apply, pair_force), written out with one
+      // pointer per axis (arrays of pointers keep GCC from vectorising the 3D loop).
+      const double* __restrict X0 = X[0], * __restrict X1 = X[1], * __restrict X2 = X[D - 1];
+      const double* __restrict V0 = V[0], * __restrict V1 = V[1], * __restrict V2 = V[D - 1];
+      double* __restrict F0 = FB[0], * __restrict F1 = FB[1], * __restrict F2 = FB[D - 1];
+#pragma GCC ivdep
+      for (std::size_t q = 0; q < m; ++q) {
+        const std::uint32_t p = own[q], j = bj[q];
+        double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
+        double len2 = n0 * n0 + n1 * n1;
+        if constexpr (D == 3) {
+          n2 = X2[j] - X2[p];
+          len2 += n2 * n2;
+        }
+        const double len = std::sqrt(len2);
+        const double inv = 1.0 / len;
+        n0 *= inv;
+        n1 *= inv;
+        if constexpr (D == 3) n2 *= inv;
+        const double un = R[p] + R[j] - len;
+        const double fn = kn * un;
+        const double lim = fs0 + mu_b * std::max(fn, 0.0);  // = fs0 exactly when mu_b = 0
+        bool ok = (bst[q] == pair_state::kIntact) & (j < ee) & (fn >= -fn_max);
+        // bitwise &: no branches, so the loop vectorises; a bond left for the scalar law keeps
+        // its stored shear displacement
+        if constexpr (D == 2) {
+          const double us = bus[q] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
+          const double u2 = us * us;
+          ok &= u2 * ks2 <= lim * lim;
+          slow[q] = !ok;
+          bus[q] = ok ? us : bus[q];
+          F0[q] = -fn * n0 - ks * us * n1;
+          F1[q] = -fn * n1 + ks * us * n0;
+          if constexpr (kEnergy) EN[q] = 0.5 * kn * un * un + 0.5 * ks * u2;
+        } else {
+          const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
+          const double dun = du0 * n0 + du1 * n1 + du2 * n2;
+          const double b0 = bus[3 * q], b1 = bus[3 * q + 1], b2 = bus[3 * q + 2];
+          const double usn = b0 * n0 + b1 * n1 + b2 * n2;
+          const double us0 = (b0 - usn * n0) + (du0 - dun * n0);
+          const double us1 = (b1 - usn * n1) + (du1 - dun * n1);
+          const double us2 = (b2 - usn * n2) + (du2 - dun * n2);
+          const double u2 = us0 * us0 + us1 * us1 + us2 * us2;
+          ok &= u2 * ks2 <= lim * lim;
+          slow[q] = !ok;
+          bus[3 * q] = ok ? us0 : b0;
+          bus[3 * q + 1] = ok ? us1 : b1;
+          bus[3 * q + 2] = ok ? us2 : b2;
+          F0[q] = -fn * n0 + ks * us0;
+          F1[q] = -fn * n1 + ks * us1;
+          F2[q] = -fn * n2 + ks * us2;
+          if constexpr (kEnergy) EN[q] = 0.5 * kn * un * un + 0.5 * ks * u2;
+        }
+      }
+    } else {
+      std::fill(slow, slow + m, std::uint8_t{1});
+    }
+    // the scalar law for the rest (cross bonds, j >= e, are phase A's)
+    const double* XC[D];
+    const double* VC[D];
+    for (int a = 0; a < D; ++a) {
+      XC[a] = X[a];
+      VC[a] = V[a];
+    }
+    for (std::size_t q = 0; q < m; ++q) {
+      if (!slow[q] || bj[q] >= ee) [[likely]]
+        continue;
+      const std::uint32_t p = own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
+      double F[D];
+      int broke = 0;
+      EN[q] = pair_force<kEnergy>(XC, VC, R, p, j, bonds.st[k], &bonds.us[std::size_t{k} * kNs], law_of(p, j),
+                                  dt, F, broke);
+      for (int a = 0; a < D; ++a) FB[a][q] = F[a];
+      if (broke) [[unlikely]]
+        record(t, c.step, p, j, broke);
+    }
+  }
+
   // Phase B: gather + update of this thread's particles, computing its internal pairs on
   // the way (a pair (p, j) with j in range is computed when p is reached; j > p has not
   // moved yet, and p's own force is complete once its own pairs are done).
@@ -810,8 +941,6 @@ class Model final : public ModelBase {
     const std::uint8_t* __restrict FL = flags.data();
     const std::uint32_t* __restrict boff = bonds.off.data();
     const std::uint32_t* __restrict bj = bonds.j.data();
-    std::uint8_t* __restrict bst = bonds.st.data();
-    double* __restrict bus = bonds.us.data();
     const std::uint32_t* __restrict coff = contacts.off.data();
     const std::uint32_t* __restrict cj = contacts.j.data();
     std::uint8_t* __restrict cst = contacts.st.data();
@@ -840,6 +969,9 @@ class Model final : public ModelBase {
     for (std::ptrdiff_t blk = b / kBlock; blk * kBlock < e; ++blk) {
       const std::ptrdiff_t pe = std::min(e, (blk + 1) * kBlock);
       double work = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0;
+      bond_block<kEnergy>(t, c, blk * kBlock, pe, e);
+      const Scratch& S = scratch[t];
+      const std::uint32_t kb0 = boff[blk * kBlock];
       for (std::ptrdiff_t p = blk * kBlock; p < pe; ++p) {
         double F[D];
         for (int a = 0; a < D; ++a) {
@@ -855,14 +987,11 @@ class Model final : public ModelBase {
             for (int a = 0; a < D; ++a) Fb[a] = s[a];
             if constexpr (kEnergy) eb += s[D];
           } else {
-            int broke = 0;
-            const SolidLatticeLaw& law = one_law ? law0 : law_of(p, j);
-            const double en =
-                pair_force<kEnergy>(XC, VC, R, p, j, bst[k], &bus[std::size_t{k} * kNs], law, dt, Fb, broke);
-            if (broke) [[unlikely]]
-              record(t, c.step, p, j, broke);
-            if constexpr (kEnergy) eb += en;
-            for (int a = 0; a < D; ++a) FA[a][j] -= Fb[a];
+            for (int a = 0; a < D; ++a) {
+              Fb[a] = S.fb[a][k - kb0];
+              FA[a][j] -= Fb[a];
+            }
+            if constexpr (kEnergy) eb += S.en[k - kb0];
           }
           for (int a = 0; a < D; ++a) F[a] += Fb[a];
         }
