@@ -1,5 +1,8 @@
 #include "frames.hpp"
 
+#include <strata/core/error.hpp>
+#include <strata/fem/stress.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -71,6 +74,16 @@ void FrameSelection::find_surface(const dem::Simulation& sim) {
   for (std::size_t id = 0; id < count.size(); ++id) surface_by_id[id] = count[id] < inside;
 }
 
+bool FrameSelection::in_groups_and_slice(std::uint32_t group_bits, const double* x) const {
+  if (group_mask != 0 && (group_bits & group_mask) == 0) return false;
+  if (slice_thickness > 0) {
+    double dist = 0;
+    for (int a = 0; a < 3; ++a) dist += (x[a] - slice_point[a]) * slice_normal[a];
+    if (std::abs(dist) > slice_thickness / 2) return false;
+  }
+  return true;
+}
+
 io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud& all,
                                 const FrameSelection& sel) {
   if (sel.keeps_all()) return all;
@@ -80,12 +93,7 @@ io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud
   if (sel.particles != FrameSelection::Particles::None) {
     for (std::size_t i = 0; i < all.size(); ++i) {
       if (sel.particles == FrameSelection::Particles::Surface && !sel.surface_by_id[ids[i]]) continue;
-      if (sel.group_mask != 0 && (groups[i] & sel.group_mask) == 0) continue;
-      if (sel.slice_thickness > 0) {
-        double dist = 0;
-        for (int a = 0; a < 3; ++a) dist += (all.xyz[3 * i + a] - sel.slice_point[a]) * sel.slice_normal[a];
-        if (std::abs(dist) > sel.slice_thickness / 2) continue;
-      }
+      if (!sel.in_groups_and_slice(groups[i], &all.xyz[3 * i])) continue;
       keep.push_back(i);
     }
   }
@@ -106,12 +114,13 @@ io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud
   return out;
 }
 
-io::LineSet bond_frame(const dem::Simulation& sim, FrameSelection::Bonds which) {
+io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
   io::LineSet ls;
   io::Array state{std::string(io::kBondStateArray), 1, {}, io::ArrayType::UInt8};
   io::Array fn{"Fn", 1, {}, io::ArrayType::Float64}, fs{"Fs", 1, {}, io::ArrayType::Float64};
-  if (which == FrameSelection::Bonds::None) return ls;
-  for (const auto& b : sim.bonds()) {
+  const auto which = sel.bonds;
+  const auto bonds = which == FrameSelection::Bonds::None ? std::vector<dem::PairView>{} : sim.bonds();
+  for (const auto& b : bonds) {
     if (b.kind == dem::PairKind::Intact && which == FrameSelection::Bonds::Broken) continue;
     ls.ends.push_back(b.i);
     ls.ends.push_back(b.j);
@@ -123,8 +132,70 @@ io::LineSet bond_frame(const dem::Simulation& sim, FrameSelection::Bonds which) 
     fn.values.push_back(b.fn);
     fs.values.push_back(b.fs);
   }
+  if (sel.contacts) {
+    // contacts() lists the unbonded pairs within the search distance; write those touching.
+    const auto pos = sim.positions();
+    const auto groups = sim.group_bits();
+    for (const auto& c : sim.contacts()) {
+      if (c.kind != dem::PairKind::Contact || !c.touching) continue;
+      if (!sel.in_groups_and_slice(groups[c.i], pos[c.i].data()) ||
+          !sel.in_groups_and_slice(groups[c.j], pos[c.j].data()))
+        continue;
+      ls.ends.push_back(c.i);
+      ls.ends.push_back(c.j);
+      state.values.push_back(double(int(io::BondState::Contact)));
+      fn.values.push_back(c.fn);
+      fs.values.push_back(c.fs);
+    }
+  }
   ls.cell_data = {std::move(state), std::move(fn), std::move(fs)};
   return ls;
+}
+
+io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const Eigen::VectorXd& v,
+                        double time, std::int64_t step) {
+  const std::size_t n = mesh.nodes();
+  const int dim = mesh.dim;
+  STRATA_CHECK(
+      static_cast<std::size_t>(u.size()) == mesh.dofs() && static_cast<std::size_t>(v.size()) == mesh.dofs(),
+      Input, "fem_frame: u has {} and v {} values, the mesh has {} DOFs", u.size(), v.size(), mesh.dofs());
+  io::MeshFrame f;
+  f.dim = dim == 3 ? 3 : 2;
+  f.time = time;
+  f.step = step;
+  f.xyz.resize(3 * n, 0.0);
+  io::Array disp{"displacement", 3, std::vector<double>(3 * n, 0.0), io::ArrayType::Float64};
+  io::Array vel{"velocity", 3, std::vector<double>(3 * n, 0.0), io::ArrayType::Float64};
+  for (std::size_t i = 0; i < n; ++i)
+    for (int a = 0; a < dim; ++a) {
+      f.xyz[3 * i + a] = mesh.x[static_cast<std::size_t>(a)][i];
+      disp.values[3 * i + a] = u[static_cast<Eigen::Index>(i) * dim + a];
+      vel.values[3 * i + a] = v[static_cast<Eigen::Index>(i) * dim + a];
+    }
+  io::Array stress{"stress", 6, {}, io::ArrayType::Float64};
+  io::Array mises{"von_mises", 1, {}, io::ArrayType::Float64};
+  io::Array block_id{"block", 1, {}, io::ArrayType::Int32};
+  for (std::size_t b = 0; b < mesh.blocks.size(); ++b) {
+    const fem::ElementBlock& block = mesh.blocks[b];
+    const io::CellType type = block.type == fem::ElementType::Tri3   ? io::CellType::Triangle
+                              : block.type == fem::ElementType::Tet4 ? io::CellType::Tetra
+                                                                     : io::CellType::Line;
+    const auto npe = static_cast<std::size_t>(fem::nodes_per_element(block.type));
+    for (std::size_t e = 0; e < block.size(); ++e) {
+      f.cell_types.push_back(type);
+      for (std::size_t k = 0; k < npe; ++k) f.connectivity.push_back(block.conn[e * npe + k]);
+      // Voigt (xx, yy, zz, yz, xz, xy) -> ParaView's tensor order (xx, yy, zz, xy, yz, xz).
+      const auto s = fem::element_stress(mesh, block, e, u);
+      stress.values.insert(stress.values.end(), {s[0], s[1], s[2], s[5], s[3], s[4]});
+      const double dev =
+          (s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) + (s[2] - s[0]) * (s[2] - s[0]);
+      mises.values.push_back(std::sqrt(0.5 * dev + 3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5])));
+      block_id.values.push_back(double(b));
+    }
+  }
+  f.point_data = {std::move(disp), std::move(vel)};
+  f.cell_data = {std::move(stress), std::move(mises), std::move(block_id)};
+  return f;
 }
 
 io::RenderStyle field_style(const std::string& field) {

@@ -1,19 +1,25 @@
 #pragma once
-/// Converts the DEM state into io's neutral frames, with the selections of [output].
+/// Converts the DEM and FEM states into io's neutral frames, with the selections of [output].
 #include <strata/dem/simulation.hpp>
+#include <strata/fem/mesh.hpp>
 #include <strata/io/frame.hpp>
 #include <strata/io/render.hpp>
 
+#include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
 
 namespace strata::app {
 
-/// Which particles and bonds the VTK frames hold ([output] particles, groups, slice_*, bonds).
+/// Which particles, bonds and contacts the VTK frames hold ([output] particles, groups,
+/// slice_*, bonds, contacts).
 struct FrameSelection {
   enum class Particles { All, Surface, None } particles = Particles::All;
   enum class Bonds { Broken, All, None } bonds = Bonds::Broken;
+  /// Never-bonded contacts that touch now, as lines with state BondState::Contact; only
+  /// those whose two particles pass the group and slice selection.
+  bool contacts = true;
   std::uint32_t group_mask = 0;  ///< 0: any group; else particles with one of these group bits
   double slice_thickness = 0;    ///< 0: no slice
   std::array<double, 3> slice_point{}, slice_normal{0, 0, 1};
@@ -25,6 +31,9 @@ struct FrameSelection {
   void find_surface(const dem::Simulation& sim);
   /// Whether every particle is written.
   bool keeps_all() const { return particles == Particles::All && group_mask == 0 && slice_thickness == 0; }
+  /// Whether a particle with these group bits and centre passes the group and slice
+  /// selection (not the surface one).
+  bool in_groups_and_slice(std::uint32_t group_bits, const double* x) const;
 };
 
 /// Particles as points with the requested fields (id, radius, displacement, velocity, force,
@@ -35,9 +44,20 @@ io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std:
 io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud& all,
                                 const FrameSelection& sel);
 
-/// Bonds as line cells with state (io::BondState codes), Fn and Fs, indexing the points of
-/// particle_frame: the broken ones (open or closed again), or all of them.
-io::LineSet bond_frame(const dem::Simulation& sim, FrameSelection::Bonds which);
+/// Bonds and contacts as line cells with state (io::BondState codes), Fn and Fs, indexing
+/// the points of particle_frame: the bonds sel.bonds asks for (broken ones, open or closed
+/// again, or all), then, with sel.contacts, the touching never-bonded contacts whose
+/// particles pass the group and slice selection (state BondState::Contact).
+io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel);
+
+/// A FEM mesh and its state as an io::MeshFrame: nodes (z = 0 in 2D, y = z = 0 in 1D),
+/// cells (Tri3 triangles, Tet4 tetrahedra, Bar and Spring lines), point arrays
+/// `displacement` and `velocity` (3 components, u and v of the DOF vectors, zero-padded),
+/// cell arrays `stress` (6 components in ParaView's symmetric-tensor order xx, yy, zz, xy,
+/// yz, xz; Pa; fem::element_stress), `von_mises` (Pa) and `block` (element block index).
+/// A 1D mesh is drawn as 2D.
+io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const Eigen::VectorXd& v,
+                        double time, std::int64_t step);
 
 /// How pictures show a particle field (render_field / --field): its scale, unit and, for
 /// damage, the fixed range [0, 1]. Shared by `strata run` and `strata render`.

@@ -28,6 +28,37 @@ Array* PointCloud::find(std::string_view name) { return find_in(point_data, name
 const Array* LineSet::find(std::string_view name) const { return find_in(cell_data, name); }
 Array* LineSet::find(std::string_view name) { return find_in(cell_data, name); }
 
+const Array* MeshFrame::find_point(std::string_view name) const { return find_in(point_data, name); }
+const Array* MeshFrame::find_cell(std::string_view name) const { return find_in(cell_data, name); }
+
+void MeshFrame::add_cell(CellType type, std::initializer_list<std::int64_t> nodes) {
+  STRATA_CHECK(nodes.size() == static_cast<std::size_t>(nodes_per_cell(type)), Input,
+               "mesh cell of type {} given {} nodes, needs {}", static_cast<int>(type), nodes.size(),
+               nodes_per_cell(type));
+  cell_types.push_back(type);
+  connectivity.insert(connectivity.end(), nodes.begin(), nodes.end());
+}
+
+void validate(const MeshFrame& mesh) {
+  STRATA_CHECK(mesh.dim == 2 || mesh.dim == 3, Input, "mesh dim = {} must be 2 or 3", mesh.dim);
+  STRATA_CHECK(mesh.xyz.size() % 3 == 0, Input, "mesh: {} coordinates is not 3 per node", mesh.xyz.size());
+  std::size_t need = 0;
+  for (const CellType t : mesh.cell_types) {
+    STRATA_CHECK(t == CellType::Line || t == CellType::Triangle || t == CellType::Tetra, Input,
+                 "mesh: unknown cell type {}", static_cast<int>(t));
+    need += static_cast<std::size_t>(nodes_per_cell(t));
+  }
+  STRATA_CHECK(need == mesh.connectivity.size(), Input,
+               "mesh: {} connectivity entries, the {} cell types need {}", mesh.connectivity.size(),
+               mesh.cells(), need);
+  const auto n = static_cast<std::int64_t>(mesh.nodes());
+  for (std::size_t i = 0; i < mesh.connectivity.size(); ++i)
+    STRATA_CHECK(mesh.connectivity[i] >= 0 && mesh.connectivity[i] < n, Input,
+                 "mesh connectivity entry {}: node index {} outside [0, {})", i, mesh.connectivity[i], n);
+  check_arrays(mesh.point_data, mesh.nodes(), "point");
+  check_arrays(mesh.cell_data, mesh.cells(), "cell");
+}
+
 void validate(const PointCloud& cloud, const LineSet* lines) {
   STRATA_CHECK(cloud.dim == 2 || cloud.dim == 3, Input, "point cloud dim = {} must be 2 or 3", cloud.dim);
   STRATA_CHECK(cloud.xyz.size() % 3 == 0, Input, "point cloud: {} coordinates is not 3 per point",

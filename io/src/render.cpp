@@ -23,15 +23,19 @@
 #include <vtkActor2D.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkColorTransferFunction.h>
 #include <vtkCoordinate.h>
+#include <vtkDataSetMapper.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkGlyph3DMapper.h>
+#include <vtkIdTypeArray.h>
 #include <vtkLineSource.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
+#include <vtkPlane.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -44,8 +48,11 @@
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkSphereSource.h>
+#include <vtkTableBasedClipDataSet.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
 #include <vtkWindowToImageFilter.h>
 
 #include <cstdlib>
@@ -87,7 +94,12 @@ constexpr ModeStyle kModes[] = {
     {BondState::BrokenShear, {0.13, 0.40, 0.90}, "shear crack"},
     {BondState::Closed, {0.10, 0.10, 0.10}, "closed again"},
 };
+constexpr ModeStyle kContactMode{BondState::Contact, {0.05, 0.55, 0.25}, "contact"};
 constexpr Rgb kIntactColour{0.55, 0.55, 0.55};
+constexpr Rgb kUniformMeshColour{0.74, 0.80, 0.87};  // pale steel blue
+constexpr Rgb kMeshEdgeColour{0.35, 0.38, 0.42};
+/// Meshes with at most this many cells are drawn with their element edges.
+constexpr std::size_t kMaxCellsWithEdges = 5000;
 constexpr Rgb kUniformParticleColour{0.86, 0.82, 0.72};  // sandstone beige
 constexpr Rgb kText{0.08, 0.08, 0.08};
 
@@ -129,9 +141,8 @@ vtkSmartPointer<vtkLookupTable> make_lut(Colormap map, double lo, double hi) {
   return lut;
 }
 
-/// The displayed value of `field` at each point (component or magnitude, times scale).
-std::vector<double> field_values(const PointCloud& cloud, const RenderStyle& s) {
-  const Array* a = cloud.find(s.field);
+/// The displayed value of array `a` at each tuple (component or magnitude, times scale).
+std::vector<double> field_values(const Array* a, const RenderStyle& s) {
   if (!a) return {};
   STRATA_CHECK(s.component < a->components, Input,
                "render: field '{}' has {} components, asked for component {}", s.field, a->components,
@@ -150,11 +161,32 @@ std::vector<double> field_values(const PointCloud& cloud, const RenderStyle& s) 
   return v;
 }
 
+std::vector<double> field_values(const PointCloud& cloud, const RenderStyle& s) {
+  return field_values(cloud.find(s.field), s);
+}
+
+/// The displayed values of a mesh: from its point array `field` if it has one, else from
+/// its cell array; empty when it has neither.
+struct MeshValues {
+  std::vector<double> values;
+  bool on_cells = false;
+};
+MeshValues field_values(const MeshFrame& mesh, const RenderStyle& s) {
+  if (s.field.empty()) return {};
+  if (const Array* a = mesh.find_point(s.field)) return {field_values(a, s), false};
+  if (const Array* a = mesh.find_cell(s.field)) return {field_values(a, s), true};
+  return {};
+}
+
 std::array<double, 2> finite_range(const std::vector<double>& v) {
   std::array<double, 2> r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (double x : v)
     if (std::isfinite(x)) r = {std::min(r[0], x), std::max(r[1], x)};
   return r;
+}
+
+std::array<double, 2> merge(std::array<double, 2> a, std::array<double, 2> b) {
+  return {std::min(a[0], b[0]), std::max(a[1], b[1])};
 }
 
 /// A usable colour range: finite, non-empty.
@@ -350,13 +382,111 @@ void write_png(vtkRenderWindow* win, const fs::path& png) {
 
 std::string thousands(std::int64_t n) { return std::to_string(n); }
 
+/// A mesh ready to draw: its actor (null when nothing is left after clipping) and the
+/// bounds of what is drawn.
+struct MeshActor {
+  vtkSmartPointer<vtkActor> actor;
+  double bounds[6] = {1e300, -1e300, 1e300, -1e300, 1e300, -1e300};
+};
+
+/// The mesh as a VTK grid, clipped by the style's plane in 3D (cells cut through, so the
+/// cut face shows the field), coloured by `values` (display values, on points or cells)
+/// through `lut`, or in one colour when `values` is empty.
+MeshActor mesh_actor(const MeshFrame& mesh, const MeshValues& mv, const RenderStyle& s, int dim,
+                     vtkLookupTable* lut, const std::array<double, 2>& range) {
+  vtkNew<vtkUnstructuredGrid> ug;
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  const auto n = static_cast<vtkIdType>(mesh.nodes());
+  pts->SetNumberOfPoints(n);
+  for (vtkIdType i = 0; i < n; ++i) pts->SetPoint(i, &mesh.xyz[3 * static_cast<std::size_t>(i)]);
+  ug->SetPoints(pts);
+  vtkNew<vtkIdTypeArray> offsets, conn;
+  vtkNew<vtkUnsignedCharArray> types;
+  vtkIdType at = 0;
+  for (const CellType t : mesh.cell_types) {
+    offsets->InsertNextValue(at);
+    types->InsertNextValue(static_cast<unsigned char>(t));
+    at += nodes_per_cell(t);
+  }
+  offsets->InsertNextValue(at);
+  for (const auto k : mesh.connectivity) conn->InsertNextValue(k);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, conn);
+  ug->SetCells(types, cells);
+  const bool coloured = !mv.values.empty();
+  if (coloured) {
+    vtkNew<vtkFloatArray> c;
+    c->SetName("c");
+    for (double v : mv.values) c->InsertNextValue(static_cast<float>(v));
+    if (mv.on_cells)
+      ug->GetCellData()->AddArray(c);
+    else
+      ug->GetPointData()->AddArray(c);
+  }
+
+  vtkSmartPointer<vtkDataSet> shown = ug.Get();
+  if (dim == 3 && s.clip_plane) {
+    const auto& p = *s.clip_plane;
+    vtkNew<vtkPlane> plane;
+    plane->SetOrigin(p[0], p[1], p[2]);
+    plane->SetNormal(p[3], p[4], p[5]);
+    vtkNew<vtkTableBasedClipDataSet> clip;
+    clip->SetInputData(ug);
+    clip->SetClipFunction(plane);
+    clip->InsideOutOn();  // keep the side the normal points away from
+    clip->Update();
+    shown = clip->GetOutput();
+  }
+  MeshActor out;
+  if (shown->GetNumberOfCells() == 0) return out;
+  shown->GetBounds(out.bounds);
+
+  vtkNew<vtkDataSetMapper> m;
+  m->SetInputData(shown);
+  if (coloured) {
+    m->SetLookupTable(lut);
+    m->SetScalarRange(range[0], range[1]);
+    if (mv.on_cells)
+      m->SetScalarModeToUseCellFieldData();
+    else
+      m->SetScalarModeToUsePointFieldData();
+    m->SelectColorArray("c");
+    m->ScalarVisibilityOn();
+  } else {
+    m->ScalarVisibilityOff();
+  }
+  out.actor = vtkSmartPointer<vtkActor>::New();
+  out.actor->SetMapper(m);
+  auto* prop = out.actor->GetProperty();
+  if (!coloured) prop->SetColor(kUniformMeshColour[0], kUniformMeshColour[1], kUniformMeshColour[2]);
+  if (mesh.cells() <= kMaxCellsWithEdges) {
+    prop->EdgeVisibilityOn();
+    prop->SetEdgeColor(kMeshEdgeColour[0], kMeshEdgeColour[1], kMeshEdgeColour[2]);
+  }
+  prop->SetLineWidth(2.0f);  // line cells (bars, springs)
+  if (dim == 2) {
+    prop->SetAmbient(1.0);
+    prop->SetDiffuse(0.0);
+    prop->SetSpecular(0.0);
+  } else {
+    prop->SetAmbient(0.25);
+    prop->SetDiffuse(0.8);
+    prop->SetSpecular(0.1);
+  }
+  return out;
+}
+
 }  // namespace
 
 void render_frame(const RenderRequest& rq) {
-  STRATA_CHECK(rq.particles, Input, "render_frame: no particles given");
+  STRATA_CHECK(rq.particles || rq.mesh, Input, "render_frame: no particles and no mesh given");
   STRATA_CHECK(!rq.png.empty(), Input, "render_frame: no output file given");
-  const PointCloud& cloud = *rq.particles;
+  PointCloud no_particles;
+  if (!rq.particles) no_particles.dim = rq.mesh->dim;
+  const PointCloud& cloud = rq.particles ? *rq.particles : no_particles;
   validate(cloud);
+  if (rq.mesh) validate(*rq.mesh);
   const RenderStyle& s = rq.style;
   STRATA_CHECK(s.width >= 16 && s.height >= 16 && s.width <= 8192 && s.height <= 8192, Input,
                "render: picture size {}x{} outside 16..8192 pixels", s.width, s.height);
@@ -371,10 +501,13 @@ void render_frame(const RenderRequest& rq) {
 
   // ---- particles: glyph centres with radius and display value --------------------------
   const std::vector<double> values = s.field.empty() ? std::vector<double>{} : field_values(cloud, s);
-  if (!s.field.empty() && values.empty())
-    log::warn("render: particles have no array '{}'; drawing them in one colour", s.field);
-  const bool coloured = !values.empty();
-  std::array<double, 2> range = s.range ? *s.range : finite_range(values);
+  const MeshValues mesh_values = rq.mesh ? field_values(*rq.mesh, s) : MeshValues{};
+  if (!s.field.empty() && values.empty() && mesh_values.values.empty())
+    log::warn("render: {} no array '{}'; drawing in one colour",
+              rq.mesh ? "particles and mesh have" : "particles have", s.field);
+  const bool coloured = !values.empty() || !mesh_values.values.empty();
+  std::array<double, 2> range =
+      s.range ? *s.range : merge(finite_range(values), finite_range(mesh_values.values));
   if (!s.range && s.colormap == Colormap::CoolWarm && range[0] <= range[1]) {
     // A diverging map is centred on zero: white means "no stress".
     const double m = std::max(std::abs(range[0]), std::abs(range[1]));
@@ -395,7 +528,7 @@ void render_frame(const RenderRequest& rq) {
     const double r = radius ? radius->at(i) : 0.0;
     pts->InsertNextPoint(p);
     rad->InsertNextValue(static_cast<float>(r * s.radius_factor));
-    if (coloured) col->InsertNextValue(static_cast<float>(values[i]));
+    if (!values.empty()) col->InsertNextValue(static_cast<float>(values[i]));
     for (int k = 0; k < 3; ++k) {
       bounds[2 * k] = std::min(bounds[2 * k], p[k] - r);
       bounds[2 * k + 1] = std::max(bounds[2 * k + 1], p[k] + r);
@@ -404,8 +537,18 @@ void render_frame(const RenderRequest& rq) {
   }
   const auto shown = pts->GetNumberOfPoints();
   if (shown > 0) mean_r /= static_cast<double>(shown);
-  if (shown == 0) std::fill(bounds, bounds + 6, 0.0), bounds[1] = bounds[3] = bounds[5] = 1.0;
-  if (!radius) {
+  auto lut = make_lut(s.colormap, range[0], range[1]);
+  MeshActor mesh;
+  if (rq.mesh) {
+    mesh = mesh_actor(*rq.mesh, mesh_values, s, dim, lut, range);
+    if (mesh.actor)
+      for (int k = 0; k < 3; ++k) {
+        bounds[2 * k] = std::min(bounds[2 * k], mesh.bounds[2 * k]);
+        bounds[2 * k + 1] = std::max(bounds[2 * k + 1], mesh.bounds[2 * k + 1]);
+      }
+  }
+  if (shown == 0 && !mesh.actor) std::fill(bounds, bounds + 6, 0.0), bounds[1] = bounds[3] = bounds[5] = 1.0;
+  if (!radius && shown > 0) {
     // No radius: a size from the point density of the bounding box.
     const double area = (bounds[1] - bounds[0]) * (bounds[3] - bounds[2]);
     mean_r = 0.5 * std::sqrt(std::max(area, 1e-30) / std::max<vtkIdType>(shown, 1));
@@ -415,7 +558,7 @@ void render_frame(const RenderRequest& rq) {
   vtkNew<vtkPolyData> centres;
   centres->SetPoints(pts);
   centres->GetPointData()->AddArray(rad);
-  if (coloured) {
+  if (!values.empty()) {
     centres->GetPointData()->AddArray(col);
     centres->GetPointData()->SetActiveScalars("c");
   }
@@ -440,8 +583,7 @@ void render_frame(const RenderRequest& rq) {
   pmap->SetScaleModeToScaleByMagnitude();
   pmap->SetScaling(true);
   pmap->OrientOff();
-  auto lut = make_lut(s.colormap, range[0], range[1]);
-  if (coloured) {
+  if (!values.empty()) {
     pmap->SetLookupTable(lut);
     pmap->SetScalarRange(range[0], range[1]);
     pmap->SetScalarModeToUsePointFieldData();
@@ -452,7 +594,7 @@ void render_frame(const RenderRequest& rq) {
   }
   vtkNew<vtkActor> particles;
   particles->SetMapper(pmap);
-  if (!coloured)
+  if (values.empty())
     particles->GetProperty()->SetColor(kUniformParticleColour[0], kUniformParticleColour[1],
                                        kUniformParticleColour[2]);
   if (dim == 2) {  // flat colours that match the colour bar exactly
@@ -477,7 +619,15 @@ void render_frame(const RenderRequest& rq) {
   halo_layer->SetLayer(1);
   top->SetLayer(2);
   for (auto* r : {scene.Get(), halo_layer.Get(), top.Get()}) win->AddRenderer(r);
-  scene->AddActor(particles);
+  if (shown > 0) scene->AddActor(particles);
+  if (mesh.actor) {
+    if (dim == 2 && shown > 0) {
+      // Behind the disks (the 2D camera looks down -z), so coupled models show particles on top.
+      const double extent = std::max(bounds[1] - bounds[0], bounds[3] - bounds[2]);
+      mesh.actor->SetPosition(0, 0, -1e-3 * extent);
+    }
+    scene->AddActor(mesh.actor);
+  }
   scene->UseFXAAOn();
 
   // Model area: left part of the window, leaving the right strip for colour bar and legend.
@@ -490,6 +640,14 @@ void render_frame(const RenderRequest& rq) {
     auto d = s.view_direction;
     const double n = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     STRATA_CHECK(n > 0, Input, "render: view direction is zero");
+    const auto& u = s.view_up;
+    const double cross[3] = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
+    STRATA_CHECK(std::hypot(cross[0], cross[1], cross[2]) > 1e-9 * n * std::hypot(u[0], u[1], u[2]), Input,
+                 "render: the up vector ({}, {}, {}) is zero or parallel to the view direction ({}, {}, {})",
+                 u[0], u[1], u[2], d[0], d[1], d[2]);
+    if (s.clip_plane)
+      STRATA_CHECK(std::hypot((*s.clip_plane)[3], (*s.clip_plane)[4], (*s.clip_plane)[5]) > 0, Input,
+                   "render: the clip plane's normal is zero");
     const double c[3] = {0.5 * (bounds[0] + bounds[1]), 0.5 * (bounds[2] + bounds[3]),
                          0.5 * (bounds[4] + bounds[5])};
     cam->SetFocalPoint(c);
@@ -522,19 +680,22 @@ void render_frame(const RenderRequest& rq) {
     const Array* state = bonds.find(kBondStateArray);
     if (!state) log::warn("render: bonds have no '{}' array; drawing all as tensile cracks", kBondStateArray);
     const Array* bond_radius = bond_pts.find(kRadiusArray);
-    if (s.show_intact_bonds && state) {
-      // Intact bonds as thin centre-to-centre lines under the cracks.
+    // Intact bonds and contacts as thin centre-to-centre lines under the cracks.
+    auto thin_lines = [&](BondState code, const Rgb& colour, double width) {
       vtkNew<vtkPoints> lp;
       vtkNew<vtkCellArray> cells;
+      std::size_t count = 0;
       for (std::size_t b = 0; b < bonds.size(); ++b) {
-        if (std::lround(state->at(b)) != 0) continue;
+        if (std::lround(state->at(b)) != static_cast<long>(code)) continue;
         const double* a = &bond_pts.xyz[3 * bonds.ends[2 * b]];
         const double* c = &bond_pts.xyz[3 * bonds.ends[2 * b + 1]];
         const double mid[3] = {0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1]), 0.5 * (a[2] + c[2])};
         if (clipped(s, dim, mid)) continue;
         const vtkIdType ids[2] = {lp->InsertNextPoint(a), lp->InsertNextPoint(c)};
         cells->InsertNextCell(2, ids);
+        ++count;
       }
+      if (count == 0) return count;
       vtkNew<vtkPolyData> pd;
       pd->SetPoints(lp);
       pd->SetLines(cells);
@@ -542,11 +703,17 @@ void render_frame(const RenderRequest& rq) {
       m->SetInputData(pd);
       vtkNew<vtkActor> a;
       a->SetMapper(m);
-      a->GetProperty()->SetColor(kIntactColour[0], kIntactColour[1], kIntactColour[2]);
-      a->GetProperty()->SetLineWidth(static_cast<float>(std::max(1.0, 0.4 * line_w)));
+      a->GetProperty()->SetColor(colour[0], colour[1], colour[2]);
+      a->GetProperty()->SetLineWidth(static_cast<float>(width));
       a->GetProperty()->LightingOff();
       halo_layer->AddActor(a);
-    }
+      return count;
+    };
+    if (s.show_intact_bonds && state)
+      thin_lines(BondState::Intact, kIntactColour, std::max(1.0, 0.4 * line_w));
+    std::size_t contacts = 0;
+    if (s.show_contacts && state)
+      contacts = thin_lines(BondState::Contact, kContactMode.colour, std::max(1.0, 0.5 * line_w));
     if (s.show_broken_bonds) {
       for (const auto& mode : kModes) {
         auto set = crack_set(bond_pts, bonds, state, bond_radius, static_cast<int>(mode.state), s, dim);
@@ -572,6 +739,7 @@ void render_frame(const RenderRequest& rq) {
         top->AddActor(crack);
       }
     }
+    if (s.show_contacts && state) legend.emplace_back(&kContactMode, contacts);
   }
 
   // ---- annotations --------------------------------------------------------------------
@@ -580,8 +748,10 @@ void render_frame(const RenderRequest& rq) {
     top->AddActor2D(text(s.title, 0.03, ytop, static_cast<int>(font * 1.3), true, kText));
     ytop -= 1.3 * 1.35 * font / H;
   }
-  const auto time = rq.time ? rq.time : cloud.time;
-  const auto step = rq.step ? rq.step : cloud.step;
+  auto time = rq.time ? rq.time : cloud.time;
+  auto step = rq.step ? rq.step : cloud.step;
+  if (rq.mesh && !time) time = rq.mesh->time;
+  if (rq.mesh && !step) step = rq.mesh->step;
   std::string when;
   if (time) when = "t = " + format_time(*time);
   if (step) when += (when.empty() ? "" : ",   ") + ("step " + thousands(*step));
@@ -621,8 +791,8 @@ void render_frame(const RenderRequest& rq) {
   if (!legend.empty()) {
     // Legend: line sample + "tensile crack (n)" per mode, bottom right.
     double y = 0.05 + (legend.size() - 1) * 1.6 * font / H;
-    top->AddActor2D(
-        text("broken bonds", side, y + 1.7 * font / H, font, true, kText, VTK_TEXT_LEFT, VTK_TEXT_CENTERED));
+    top->AddActor2D(text(s.show_contacts ? "bonds and contacts" : "broken bonds", side, y + 1.7 * font / H,
+                         font, true, kText, VTK_TEXT_LEFT, VTK_TEXT_CENTERED));
     for (const auto& [mode, count] : legend) {
       top->AddActor2D(legend_line(side, side + 0.035, y, mode->colour, std::max(3.0, line_w + 1)));
       top->AddActor2D(text(fmt::format("{} ({})", mode->label, thousands(static_cast<std::int64_t>(count))),
@@ -637,31 +807,49 @@ void render_frame(const RenderRequest& rq) {
 }
 
 std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files, const fs::path& out_dir,
-                                    const RenderStyle& style, const std::vector<fs::path>& bond_files) {
-  STRATA_CHECK(bond_files.empty() || bond_files.size() == particle_files.size(), Input,
-               "render: {} bond frames for {} particle frames", bond_files.size(), particle_files.size());
+                                    const RenderStyle& style, const std::vector<fs::path>& bond_files,
+                                    const std::vector<fs::path>& mesh_files) {
+  const std::size_t frames = std::max({particle_files.size(), bond_files.size(), mesh_files.size()});
+  for (const auto* list : {&particle_files, &bond_files, &mesh_files})
+    STRATA_CHECK(list->empty() || list->size() == frames, Input,
+                 "render: {} particle, {} bond and {} mesh frames (each list must be empty or as long as the "
+                 "longest)",
+                 particle_files.size(), bond_files.size(), mesh_files.size());
+  auto at = [](const std::vector<fs::path>& files, std::size_t k) {
+    return files.empty() ? fs::path() : files[k];
+  };
   RenderStyle s = style;
   if (!s.range && !s.field.empty()) {
     // One colour range for the whole series, so a colour means the same in every frame.
     std::array<double, 2> r{std::numeric_limits<double>::infinity(),
                             -std::numeric_limits<double>::infinity()};
-    for (const auto& f : particle_files) {
-      const auto fr = finite_range(field_values(read_vtp(f).points, s));
-      r = {std::min(r[0], fr[0]), std::max(r[1], fr[1])};
+    for (std::size_t k = 0; k < frames; ++k) {
+      if (const auto f = at(particle_files, k); !f.empty())
+        r = merge(r, finite_range(field_values(read_vtp(f).points, s)));
+      if (const auto f = at(mesh_files, k); !f.empty())
+        r = merge(r, finite_range(field_values(read_vtu(f), s).values));
     }
     if (r[0] <= r[1]) s.range = r;
   }
   std::vector<fs::path> out;
-  for (std::size_t k = 0; k < particle_files.size(); ++k) {
-    const auto particles = read_vtp(particle_files[k]);
+  for (std::size_t k = 0; k < frames; ++k) {
     RenderRequest rq;
-    rq.particles = &particles.points;
-    VtpContents bonds;
-    if (!bond_files.empty() && !bond_files[k].empty()) {
-      bonds = read_vtp(bond_files[k]);
+    VtpContents particles, bonds;
+    MeshFrame mesh;
+    if (const auto f = at(particle_files, k); !f.empty()) {
+      particles = read_vtp(f);
+      rq.particles = &particles.points;
+    }
+    if (const auto f = at(bond_files, k); !f.empty()) {
+      bonds = read_vtp(f);
       rq.bonds = &bonds.lines;
       rq.bond_points = &bonds.points;
     }
+    if (const auto f = at(mesh_files, k); !f.empty()) {
+      mesh = read_vtu(f);
+      rq.mesh = &mesh;
+    }
+    STRATA_CHECK(rq.particles || rq.mesh, Input, "render: frame {} has neither particles nor a mesh", k);
     rq.png = out_dir / fmt::format("frame_{:06d}.png", k);
     rq.style = s;
     render_frame(rq);
@@ -671,29 +859,38 @@ std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files,
   return out;
 }
 
-std::vector<fs::path> render_series(const fs::path& particles_pvd, const fs::path& out_dir,
-                                    const RenderStyle& style, const fs::path& bonds_pvd) {
-  const auto base = particles_pvd.parent_path();
-  std::vector<fs::path> pfiles, bfiles;
-  const auto entries = read_pvd(particles_pvd);
-  std::vector<PvdEntry> bond_entries;
-  if (!bonds_pvd.empty()) bond_entries = read_pvd(bonds_pvd);
-  for (const auto& e : entries) {
-    pfiles.push_back(e.file.is_absolute() ? e.file : base / e.file);
-    if (bonds_pvd.empty()) continue;
-    // The bond frame with the same time (relative tolerance), if any.
-    fs::path match;
-    for (const auto& b : bond_entries)
+std::vector<fs::path> render_series(const fs::path& pvd, const fs::path& out_dir, const RenderStyle& style,
+                                    const fs::path& bonds_pvd, const fs::path& mesh_pvd) {
+  const bool mesh_only = is_mesh_series(pvd);
+  STRATA_CHECK(!(mesh_only && !mesh_pvd.empty()), Input,
+               "render: {} lists FEM frames (.vtu), and a mesh series {} was given too", pvd.string(),
+               mesh_pvd.string());
+  STRATA_CHECK(mesh_pvd.empty() || is_mesh_series(mesh_pvd), Input,
+               "render: the mesh series {} does not list .vtu frames", mesh_pvd.string());
+  const auto entries = read_pvd(pvd);
+  auto path_of = [](const fs::path& series, const PvdEntry& e) {
+    return e.file.is_absolute() ? e.file : series.parent_path() / e.file;
+  };
+  /// The frame of `series` with the same time as `e` (relative tolerance 1e-9), if any.
+  auto matching = [&](const fs::path& series, const std::vector<PvdEntry>& list, const PvdEntry& e) {
+    for (const auto& b : list)
       if (std::abs(b.time - e.time) <=
               1e-9 * std::max(1e-300, std::max(std::abs(b.time), std::abs(e.time))) ||
-          b.time == e.time) {
-        match = b.file.is_absolute() ? b.file : bonds_pvd.parent_path() / b.file;
-        break;
-      }
-    bfiles.push_back(match);
+          b.time == e.time)
+        return path_of(series, b);
+    return fs::path();
+  };
+  std::vector<PvdEntry> bond_entries, mesh_entries;
+  if (!bonds_pvd.empty()) bond_entries = read_pvd(bonds_pvd);
+  if (!mesh_pvd.empty()) mesh_entries = read_pvd(mesh_pvd);
+  std::vector<fs::path> pfiles, bfiles, mfiles;
+  for (const auto& e : entries) {
+    (mesh_only ? mfiles : pfiles).push_back(path_of(pvd, e));
+    if (!bonds_pvd.empty()) bfiles.push_back(matching(bonds_pvd, bond_entries, e));
+    if (!mesh_pvd.empty()) mfiles.push_back(matching(mesh_pvd, mesh_entries, e));
   }
-  log::info("rendering {} frames of {} to {}", pfiles.size(), particles_pvd.string(), out_dir.string());
-  return render_frames(pfiles, out_dir, style, bfiles);
+  log::info("rendering {} frames of {} to {}", entries.size(), pvd.string(), out_dir.string());
+  return render_frames(pfiles, out_dir, style, bfiles, mfiles);
 }
 
 bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
@@ -770,10 +967,11 @@ bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
 
 void render_frame(const RenderRequest&) { fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures"); }
 std::vector<fs::path> render_frames(const std::vector<fs::path>&, const fs::path&, const RenderStyle&,
-                                    const std::vector<fs::path>&) {
+                                    const std::vector<fs::path>&, const std::vector<fs::path>&) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
-std::vector<fs::path> render_series(const fs::path&, const fs::path&, const RenderStyle&, const fs::path&) {
+std::vector<fs::path> render_series(const fs::path&, const fs::path&, const RenderStyle&, const fs::path&,
+                                    const fs::path&) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
 bool make_movie(const fs::path&, const fs::path&, int) {

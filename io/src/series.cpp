@@ -104,6 +104,11 @@ std::vector<PvdEntry> read_pvd(const fs::path& pvd) {
   return out;
 }
 
+bool is_mesh_series(const fs::path& pvd) {
+  const auto entries = read_pvd(pvd);
+  return !entries.empty() && entries.front().file.extension() == ".vtu";
+}
+
 void write_pvd(const fs::path& pvd, const std::vector<PvdEntry>& entries) {
   std::string text =
       "<?xml version=\"1.0\"?>\n"
@@ -126,7 +131,7 @@ Series::Series(fs::path dir, std::string name, Mode mode) : dir_(std::move(dir))
   const std::string prefix = name_ + "_";
   for (const auto& f : fs::directory_iterator(dir_, ec)) {
     const std::string fn = f.path().filename().string();
-    const bool stale_frame = fn.starts_with(prefix) && fn.ends_with(".vtp.tmp");
+    const bool stale_frame = fn.starts_with(prefix) && (fn.ends_with(".vtp.tmp") || fn.ends_with(".vtu.tmp"));
     if (stale_frame || fn == name_ + ".pvd.tmp") {
       log::debug("removing stale temporary {}", f.path().string());
       fs::remove(f.path(), ec);
@@ -149,10 +154,13 @@ void Series::renumber() {
   }
 }
 
-fs::path Series::next_frame_path() const { return dir_ / fmt::format("{}_{:06d}.vtp", name_, next_index_); }
+fs::path Series::next_frame_path(const std::string& ext) const {
+  return dir_ / fmt::format("{}_{:06d}{}", name_, next_index_, ext);
+}
 
-fs::path Series::add_frame(double time, const std::function<void(const fs::path&)>& write) {
-  const fs::path path = next_frame_path();
+fs::path Series::add_frame(double time, const std::function<void(const fs::path&)>& write,
+                           const std::string& ext) {
+  const fs::path path = next_frame_path(ext);
   write(path);
   STRATA_CHECK(fs::exists(path), IO, "series {}: frame {} was not written", name_, path.string());
   entries_.push_back({time, path.filename(), 0});
@@ -167,6 +175,11 @@ fs::path Series::add_particles(double time, const PointCloud& particles) {
 
 fs::path Series::add_lines(double time, const PointCloud& points, const LineSet& lines) {
   return add_frame(time, [&](const fs::path& p) { write_lines(p, points, lines); });
+}
+
+fs::path Series::add_mesh(double time, const MeshFrame& mesh) {
+  return add_frame(
+      time, [&](const fs::path& p) { write_mesh(p, mesh); }, ".vtu");
 }
 
 void Series::truncate_after(double time) {

@@ -21,8 +21,11 @@
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnsignedCharArray.h>
+#include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLUnstructuredGridReader.h>
+#include <vtkXMLUnstructuredGridWriter.h>
 
 #include <cmath>
 #include <numeric>
@@ -120,31 +123,49 @@ vtkSmartPointer<vtkPoints> make_points(const PointCloud& cloud, const std::vecto
   return pts;
 }
 
-void add_field_data(vtkPolyData* pd, const PointCloud& cloud) {
+/// Field data "dimension", "TimeValue" (ParaView reads it) and "step".
+template <typename Frame>
+void add_field_data(vtkDataObject* data, const Frame& frame) {
   vtkNew<vtkIntArray> dim;
   dim->SetName("dimension");
-  dim->InsertNextValue(cloud.dim);
-  pd->GetFieldData()->AddArray(dim);
-  if (cloud.time) {
+  dim->InsertNextValue(frame.dim);
+  data->GetFieldData()->AddArray(dim);
+  if (frame.time) {
     vtkNew<vtkDoubleArray> t;
     t->SetName("TimeValue");
-    t->InsertNextValue(*cloud.time);
-    pd->GetFieldData()->AddArray(t);
+    t->InsertNextValue(*frame.time);
+    data->GetFieldData()->AddArray(t);
   }
-  if (cloud.step) {
+  if (frame.step) {
     vtkNew<vtkLongLongArray> s;
     s->SetName("step");
-    s->InsertNextValue(*cloud.step);
-    pd->GetFieldData()->AddArray(s);
+    s->InsertNextValue(*frame.step);
+    data->GetFieldData()->AddArray(s);
   }
 }
 
-/// Writes `pd` through `<path>.tmp` and a rename, with explicit format settings.
-void write_polydata(const std::filesystem::path& path, vtkPolyData* pd) {
+/// Reads the field data written by add_field_data (dimension defaults to 3).
+template <typename Frame>
+void read_field_data(vtkDataObject* data, Frame& frame) {
+  frame.dim = 3;
+  auto* fd = data->GetFieldData();
+  if (!fd) return;
+  if (auto* d = fd->GetArray("dimension"); d && d->GetNumberOfTuples() > 0)
+    frame.dim = static_cast<int>(d->GetComponent(0, 0));
+  if (auto* d = fd->GetArray("TimeValue"); d && d->GetNumberOfTuples() > 0)
+    frame.time = d->GetComponent(0, 0);
+  if (auto* d = fd->GetArray("step"); d && d->GetNumberOfTuples() > 0)
+    frame.step = static_cast<std::int64_t>(d->GetComponent(0, 0));
+}
+
+/// Writes `data` with an XML writer through `<path>.tmp` and a rename, with explicit
+/// format settings.
+template <typename Writer>
+void write_xml(const std::filesystem::path& path, vtkDataObject* data) {
   detail::make_parent(path);
   const auto tmp = detail::temp_path(path);
-  vtkNew<vtkXMLPolyDataWriter> w;
-  w->SetInputData(pd);
+  vtkNew<Writer> w;
+  w->SetInputData(data);
   w->SetFileName(tmp.c_str());
   w->SetDataModeToAppended();
   w->EncodeAppendedDataOff();  // raw binary, as ParaView writes it
@@ -184,7 +205,7 @@ void write_particles(const std::filesystem::path& path, const PointCloud& partic
   pd->SetVerts(verts);
   for (const auto& a : particles.point_data) pd->GetPointData()->AddArray(to_vtk(a));
   add_field_data(pd, particles);
-  write_polydata(path, pd);
+  write_xml<vtkXMLPolyDataWriter>(path, pd);
 }
 
 void write_lines(const std::filesystem::path& path, const PointCloud& points, const LineSet& lines) {
@@ -216,7 +237,7 @@ void write_lines(const std::filesystem::path& path, const PointCloud& points, co
   for (const auto& a : points.point_data) pd->GetPointData()->AddArray(to_vtk(a, &pick));
   for (const auto& a : lines.cell_data) pd->GetCellData()->AddArray(to_vtk(a));
   add_field_data(pd, points);
-  write_polydata(path, pd);
+  write_xml<vtkXMLPolyDataWriter>(path, pd);
 }
 
 VtpContents read_vtp(const std::filesystem::path& path) {
@@ -233,15 +254,7 @@ VtpContents read_vtp(const std::filesystem::path& path) {
   for (vtkIdType i = 0; i < n; ++i) pd->GetPoint(i, &cloud.xyz[3 * i]);
   for (int k = 0; k < pd->GetPointData()->GetNumberOfArrays(); ++k)
     if (auto* d = pd->GetPointData()->GetArray(k)) cloud.point_data.push_back(from_vtk(d));
-  cloud.dim = 3;
-  if (auto* fd = pd->GetFieldData()) {
-    if (auto* d = fd->GetArray("dimension"); d && d->GetNumberOfTuples() > 0)
-      cloud.dim = static_cast<int>(d->GetComponent(0, 0));
-    if (auto* d = fd->GetArray("TimeValue"); d && d->GetNumberOfTuples() > 0)
-      cloud.time = d->GetComponent(0, 0);
-    if (auto* d = fd->GetArray("step"); d && d->GetNumberOfTuples() > 0)
-      cloud.step = static_cast<std::int64_t>(d->GetComponent(0, 0));
-  }
+  read_field_data(pd, cloud);
   if (vtkCellArray* lines = pd->GetLines(); lines && lines->GetNumberOfCells() > 0) {
     const vtkIdType first_line = pd->GetNumberOfVerts();
     auto it = vtk::TakeSmartPointer(lines->NewIterator());
@@ -269,6 +282,69 @@ VtpContents read_vtp(const std::filesystem::path& path) {
   return out;
 }
 
+void write_mesh(const std::filesystem::path& path, const MeshFrame& mesh) {
+  validate(mesh);
+  vtkNew<vtkUnstructuredGrid> ug;
+  vtkNew<vtkPoints> pts;
+  pts->SetDataTypeToDouble();
+  const auto n = static_cast<vtkIdType>(mesh.nodes());
+  pts->SetNumberOfPoints(n);
+  for (vtkIdType i = 0; i < n; ++i) pts->SetPoint(i, &mesh.xyz[3 * static_cast<std::size_t>(i)]);
+  ug->SetPoints(pts);
+  // Cells as offsets + connectivity, with one VTK cell type per cell.
+  const auto m = static_cast<vtkIdType>(mesh.cells());
+  vtkNew<vtkIdTypeArray> offsets, conn;
+  offsets->SetNumberOfValues(m + 1);
+  conn->SetNumberOfValues(static_cast<vtkIdType>(mesh.connectivity.size()));
+  vtkNew<vtkUnsignedCharArray> types;
+  types->SetNumberOfValues(m);
+  vtkIdType at = 0;
+  for (vtkIdType c = 0; c < m; ++c) {
+    offsets->SetValue(c, at);
+    types->SetValue(c, static_cast<unsigned char>(mesh.cell_types[static_cast<std::size_t>(c)]));
+    at += nodes_per_cell(mesh.cell_types[static_cast<std::size_t>(c)]);
+  }
+  offsets->SetValue(m, at);
+  for (vtkIdType k = 0; k < at; ++k) conn->SetValue(k, mesh.connectivity[static_cast<std::size_t>(k)]);
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, conn);
+  ug->SetCells(types, cells);
+  for (const auto& a : mesh.point_data) ug->GetPointData()->AddArray(to_vtk(a));
+  for (const auto& a : mesh.cell_data) ug->GetCellData()->AddArray(to_vtk(a));
+  add_field_data(ug, mesh);
+  write_xml<vtkXMLUnstructuredGridWriter>(path, ug);
+}
+
+MeshFrame read_vtu(const std::filesystem::path& path) {
+  STRATA_CHECK(std::filesystem::exists(path), IO, "cannot read {}: no such file", path.string());
+  vtkNew<vtkXMLUnstructuredGridReader> r;
+  r->SetFileName(path.c_str());
+  r->Update();
+  STRATA_CHECK(r->GetErrorCode() == 0 && r->GetOutput(), IO, "VTK could not read {}", path.string());
+  vtkUnstructuredGrid* ug = r->GetOutput();
+  MeshFrame out;
+  const vtkIdType n = ug->GetNumberOfPoints();
+  out.xyz.resize(3 * static_cast<std::size_t>(n));
+  for (vtkIdType i = 0; i < n; ++i) ug->GetPoint(i, &out.xyz[3 * static_cast<std::size_t>(i)]);
+  for (vtkIdType c = 0; c < ug->GetNumberOfCells(); ++c) {
+    const int t = ug->GetCellType(c);
+    STRATA_CHECK(t == VTK_LINE || t == VTK_TRIANGLE || t == VTK_TETRA, IO,
+                 "{}: cell {} has VTK type {} (only lines, triangles and tetrahedra are read)", path.string(),
+                 c, t);
+    vtkIdType np;
+    const vtkIdType* ids;
+    ug->GetCellPoints(c, np, ids);
+    out.cell_types.push_back(static_cast<CellType>(t));
+    out.connectivity.insert(out.connectivity.end(), ids, ids + np);
+  }
+  for (int k = 0; k < ug->GetPointData()->GetNumberOfArrays(); ++k)
+    if (auto* d = ug->GetPointData()->GetArray(k)) out.point_data.push_back(from_vtk(d));
+  for (int k = 0; k < ug->GetCellData()->GetNumberOfArrays(); ++k)
+    if (auto* d = ug->GetCellData()->GetArray(k)) out.cell_data.push_back(from_vtk(d));
+  read_field_data(ug, out);
+  return out;
+}
+
 #else  // !STRATA_WITH_VTK
 
 void write_particles(const std::filesystem::path&, const PointCloud&) {
@@ -278,6 +354,12 @@ void write_lines(const std::filesystem::path&, const PointCloud&, const LineSet&
   fail_missing_feature("STRATA_WITH_VTK", "VTK time series");
 }
 VtpContents read_vtp(const std::filesystem::path&) {
+  fail_missing_feature("STRATA_WITH_VTK", "VTK time series");
+}
+void write_mesh(const std::filesystem::path&, const MeshFrame&) {
+  fail_missing_feature("STRATA_WITH_VTK", "VTK time series");
+}
+MeshFrame read_vtu(const std::filesystem::path&) {
   fail_missing_feature("STRATA_WITH_VTK", "VTK time series");
 }
 

@@ -30,7 +30,9 @@
 #include <vtkFieldData.h>
 #include <vtkPointData.h>
 #include <vtkPolyData.h>
+#include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
 #endif
 
 namespace fs = std::filesystem;
@@ -160,6 +162,111 @@ TEST_F(IoTest, LineEndOutOfRangeIsRefused) {
   auto p = hex_patch(3, 3);
   p.bonds.ends[5] = 9;  // 9 points: 0..8
   EXPECT_THROW(write_lines(dir_ / "b.vtp", p.cloud, p.bonds), Error);
+}
+
+// ---- FEM meshes (.vtu) -----------------------------------------------------------------------
+
+TEST_F(IoTest, MeshReadsBackWithVtkUnstructuredGridReader) {
+  MeshFrame m = tet_box(1, /*extras=*/true);  // 6 tetrahedra, 1 triangle, 1 line
+  m.time = 0.75;
+  m.step = 1500;
+  Array stress{"stress", 6, {}, ArrayType::Float64};
+  for (std::size_t c = 0; c < m.cells(); ++c)
+    for (int k = 0; k < 6; ++k) stress.values.push_back(1e6 * c + k);
+  m.cell_data.push_back(stress);
+  const auto file = dir_ / "mesh.vtu";
+  write_mesh(file, m);
+  EXPECT_FALSE(fs::exists(dir_ / "mesh.vtu.tmp"));
+  const std::string text = slurp(file);
+  EXPECT_NE(text.find("type=\"UnstructuredGrid\""), std::string::npos);
+  EXPECT_NE(text.find("format=\"appended\""), std::string::npos);
+  EXPECT_NE(text.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
+  EXPECT_NE(text.find("header_type=\"UInt64\""), std::string::npos);
+
+  vtkNew<vtkXMLUnstructuredGridReader> r;
+  r->SetFileName(file.c_str());
+  r->Update();
+  vtkUnstructuredGrid* ug = r->GetOutput();
+  ASSERT_EQ(ug->GetNumberOfPoints(), 8);
+  ASSERT_EQ(ug->GetNumberOfCells(), 8);
+  for (int c = 0; c < 6; ++c) EXPECT_EQ(ug->GetCellType(c), VTK_TETRA);
+  EXPECT_EQ(ug->GetCellType(6), VTK_TRIANGLE);
+  EXPECT_EQ(ug->GetCellType(7), VTK_LINE);
+  // Connectivity, cell by cell, as given.
+  std::size_t at = 0;
+  for (vtkIdType c = 0; c < ug->GetNumberOfCells(); ++c) {
+    vtkIdType np;
+    const vtkIdType* ids;
+    ug->GetCellPoints(c, np, ids);
+    ASSERT_EQ(np, nodes_per_cell(m.cell_types[c]));
+    for (vtkIdType k = 0; k < np; ++k) EXPECT_EQ(ids[k], m.connectivity[at++]);
+  }
+  auto* x = ug->GetPointData()->GetArray("x");
+  auto* cx = ug->GetCellData()->GetArray("cx");
+  auto* s = ug->GetCellData()->GetArray("stress");
+  ASSERT_TRUE(x && cx && s);
+  EXPECT_EQ(cx->GetDataType(), VTK_FLOAT);
+  EXPECT_EQ(s->GetNumberOfComponents(), 6);
+  for (vtkIdType i = 0; i < 8; ++i) EXPECT_EQ(x->GetComponent(i, 0), m.xyz[3 * i]);
+  for (vtkIdType c = 0; c < 8; ++c) {
+    EXPECT_FLOAT_EQ(static_cast<float>(cx->GetComponent(c, 0)), static_cast<float>(m.cell_data[0].at(c)));
+    for (int k = 0; k < 6; ++k) EXPECT_EQ(s->GetComponent(c, k), 1e6 * c + k);
+  }
+  EXPECT_EQ(ug->GetFieldData()->GetArray("TimeValue")->GetComponent(0, 0), 0.75);
+
+  // read_vtu gives the same frame back.
+  const MeshFrame back = read_vtu(file);
+  EXPECT_EQ(back.dim, 3);
+  EXPECT_EQ(back.xyz, m.xyz);
+  EXPECT_EQ(back.cell_types, m.cell_types);
+  EXPECT_EQ(back.connectivity, m.connectivity);
+  EXPECT_EQ(back.time, m.time);
+  EXPECT_EQ(back.step, m.step);
+  ASSERT_TRUE(back.find_cell("stress"));
+  EXPECT_EQ(back.find_cell("stress")->values, stress.values);
+  EXPECT_EQ(back.find_point("x")->values, m.point_data[0].values);
+}
+
+TEST_F(IoTest, BadMeshesAreRefused) {
+  MeshFrame m = tet_box(1);
+  m.connectivity.pop_back();  // the last tetrahedron misses a node
+  EXPECT_THROW(write_mesh(dir_ / "a.vtu", m), Error);
+  m = tet_box(1);
+  m.connectivity[3] = 8;  // nodes 0..7
+  EXPECT_THROW(write_mesh(dir_ / "a.vtu", m), Error);
+  m = tet_box(1);
+  m.cell_data[0].values.pop_back();
+  EXPECT_THROW(write_mesh(dir_ / "a.vtu", m), Error);
+  EXPECT_THROW(m.add_cell(CellType::Triangle, {0, 1}), Error);
+  EXPECT_FALSE(fs::exists(dir_ / "a.vtu"));
+}
+
+TEST_F(IoTest, MeshSeriesListsVtuFrames) {
+  MeshFrame m = tet_box(2);
+  Series fem(dir_, "fem");
+  for (int k = 0; k < 3; ++k) fem.add_mesh(0.1 * k, m);
+  const auto entries = read_pvd(fem.pvd_path());
+  ASSERT_EQ(entries.size(), 3u);
+  EXPECT_EQ(entries[2].file, fs::path("fem_000002.vtu"));
+  EXPECT_EQ(read_vtu(dir_ / entries[2].file).cells(), m.cells());
+  EXPECT_TRUE(is_mesh_series(fem.pvd_path()));
+  auto p = hex_patch(3, 3);
+  Series particles(dir_, "particles");
+  particles.add_particles(0, p.cloud);
+  EXPECT_FALSE(is_mesh_series(particles.pvd_path()));
+  // A killed run's temporary .vtu is removed when the series is opened again.
+  std::ofstream(fem.next_frame_path(".vtu").string() + ".tmp") << "<?xml";
+  Series again(dir_, "fem", Series::Mode::Resume);
+  EXPECT_FALSE(fs::exists(dir_ / "fem_000003.vtu.tmp"));
+  EXPECT_EQ(again.frames().size(), 3u);
+}
+
+TEST_F(IoTest, ContactLinesKeepState4) {
+  auto p = hex_patch(3, 3);
+  p.bonds.find(kBondStateArray)->values[0] = static_cast<double>(BondState::Contact);
+  write_lines(dir_ / "b.vtp", p.cloud, p.bonds);
+  const auto back = read_vtp(dir_ / "b.vtp");
+  EXPECT_EQ(back.lines.find(kBondStateArray)->at(0), 4.0);
 }
 
 // ---- series ---------------------------------------------------------------------------------

@@ -143,6 +143,178 @@ TEST_F(IoTest, RenderFrame3DWithClipPlane) {
   EXPECT_GT(count(img, [](int r, int g, int b) { return r > b + 60; }), 300u);  // warm side
 }
 
+namespace {
+/// Pixels in the model area (the left 75 % of the picture: the colour bar and legend sit
+/// right of 0.80) that satisfy `pred`.
+std::size_t count_in_model_area(const Image& img, bool (*pred)(int r, int g, int b)) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+    const auto x = static_cast<int>(i % static_cast<std::size_t>(img.width));
+    if (x < img.width * 3 / 4) n += pred(img.pixels[i][0], img.pixels[i][1], img.pixels[i][2]);
+  }
+  return n;
+}
+bool warm(int r, int, int b) { return r > b + 60; }
+bool cool(int r, int, int b) { return b > r + 60; }
+bool not_background(int r, int g, int b) { return r < 245 || g < 245 || b < 245; }
+
+/// An 8 x 8 x 8 cube of spheres (radius 0.5 on a unit grid) with "stress" = x - 3.5.
+PointCloud sphere_cube() {
+  PointCloud c;
+  c.dim = 3;
+  Array radius{std::string(kRadiusArray), 1, {}};
+  Array stress{"stress", 1, {}};
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        c.xyz.insert(c.xyz.end(), {1.0 * i, 1.0 * j, 1.0 * k});
+        radius.values.push_back(0.5);
+        stress.values.push_back(i - 3.5);
+      }
+  c.point_data = {radius, stress};
+  return c;
+}
+}  // namespace
+
+// The clip plane x > 3.5 (normal +x) removes exactly the spheres with stress > 0, which the
+// fixed diverging range draws warm: the unclipped picture shows many warm pixels, the
+// clipped one none in the model area, while cool (x < 3.5) spheres stay in both.
+TEST_F(IoTest, ClipPlaneRemovesTheNormalSide) {
+  const PointCloud c = sphere_cube();
+  RenderRequest rq;
+  rq.particles = &c;
+  rq.style.width = 400;
+  rq.style.height = 300;
+  rq.style.field = "stress";
+  rq.style.colormap = Colormap::CoolWarm;
+  rq.style.range = std::array<double, 2>{-3.5, 3.5};
+  rq.style.view_direction = {-1, -0.3, -0.5};  // from +x, so the warm side faces the camera
+  rq.png = dir_ / "whole.png";
+  render_frame(rq);
+  rq.style.clip_plane = std::array<double, 6>{3.5, 3.5, 3.5, 1, 0, 0};
+  rq.png = dir_ / "clipped.png";
+  render_frame(rq);
+  const Image whole = read_png(dir_ / "whole.png"), clipped = read_png(dir_ / "clipped.png");
+  EXPECT_GT(count_in_model_area(whole, warm), 2000u);
+  EXPECT_EQ(count_in_model_area(clipped, warm), 0u);
+  EXPECT_GT(count_in_model_area(clipped, cool), 2000u);
+  EXPECT_GT(count_in_model_area(clipped, not_background), 5000u);  // the camera is refitted, not empty
+}
+
+TEST_F(IoTest, UpVectorAlongTheViewIsRefused) {
+  const PointCloud c = sphere_cube();
+  RenderRequest rq;
+  rq.particles = &c;
+  rq.png = dir_ / "x.png";
+  rq.style.width = rq.style.height = 64;
+  rq.style.view_direction = {0, 0, -2};
+  rq.style.view_up = {0, 0, 1};
+  EXPECT_THROW(render_frame(rq), Error);
+  EXPECT_FALSE(fs::exists(rq.png));
+}
+
+// A tetrahedral box shaded by a cell field, whole and cut by a clip plane: the cut keeps
+// the cool half (cell centroids x < 1.5) and shows it on the cut face.
+TEST_F(IoTest, RenderMeshShadedByACellFieldWithClipPlane) {
+  const MeshFrame m = tet_box(3);
+  RenderRequest rq;
+  rq.mesh = &m;
+  rq.style.width = 400;
+  rq.style.height = 300;
+  rq.style.field = "cx";
+  rq.style.colormap = Colormap::CoolWarm;
+  rq.style.range = std::array<double, 2>{0.0, 3.0};  // white at 1.5
+  rq.style.view_direction = {-1, -0.4, -0.5};
+  rq.time = 0.5;
+  rq.png = dir_ / "mesh.png";
+  render_frame(rq);
+  rq.style.clip_plane = std::array<double, 6>{1.5, 0, 0, 1, 0, 0};
+  rq.png = dir_ / "mesh_clipped.png";
+  render_frame(rq);
+  if (const char* keep = std::getenv("STRATA_TEST_KEEP_PNG"))
+    fs::copy_file(rq.png, keep, fs::copy_options::overwrite_existing);
+  const Image whole = read_png(dir_ / "mesh.png"), clipped = read_png(dir_ / "mesh_clipped.png");
+  EXPECT_GT(count_in_model_area(whole, warm), 2000u);
+  EXPECT_GT(count_in_model_area(whole, cool), 500u);
+  // Cells whose centroid lies beyond x = 1.5 are cut away; what is left has x <= 1.5, and
+  // so cool or white colours (cut cells keep their cell value, at most 1.5 + 0.25).
+  EXPECT_LT(count_in_model_area(clipped, warm), count_in_model_area(whole, warm) / 20);
+  EXPECT_GT(count_in_model_area(clipped, cool), 2000u);
+}
+
+// A 2D coupled picture: the mesh shaded by a point field under particles coloured by the
+// same field, one colour bar (viridis from purple at x = 0 to yellow at the right end).
+TEST_F(IoTest, RenderMeshUnderParticlesIn2D) {
+  MeshFrame m;
+  m.dim = 2;
+  Array x{"displacement", 1, {}};
+  const int n = 10;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) {
+      m.xyz.insert(m.xyz.end(), {0.02 + 1e-3 * i, 1e-3 * j, 0.0});
+      x.values.push_back(1e-6 * (20 + i));
+    }
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::int64_t a = j * (n + 1) + i;
+      m.add_cell(CellType::Triangle, {a, a + 1, a + n + 2});
+      m.add_cell(CellType::Triangle, {a, a + n + 2, a + n + 1});
+    }
+  m.point_data = {x};
+  m.time = 1e-3;
+  auto p = hex_patch(20, 12);  // displacement 0 .. 19e-6 m along x; disks left of the mesh
+  for (std::size_t i = 0; i < p.cloud.size(); ++i)
+    p.cloud.find("displacement")->values[3 * i + 1] = 0;  // x component only, for a clean range
+  RenderRequest rq;
+  rq.particles = &p.cloud;
+  rq.mesh = &m;
+  rq.png = dir_ / "coupled.png";
+  rq.style.width = 640;
+  rq.style.height = 320;
+  rq.style.field = "displacement";
+  render_frame(rq);
+  const Image img = read_png(rq.png);
+  // Purple-blue (low) disks and yellow-green (high) mesh nodes: both ends of one range.
+  EXPECT_GT(count_in_model_area(img, [](int r, int g, int b) { return b > 100 && r < 90 && g < 60; }), 200u);
+  EXPECT_GT(count_in_model_area(img, [](int r, int g, int b) { return g > 180 && r > 150 && b < 90; }), 200u);
+}
+
+TEST_F(IoTest, RenderSeriesOfMeshFrames) {
+  MeshFrame m = tet_box(2);
+  Series fem(dir_ / "out", "fem");
+  for (int k = 0; k < 2; ++k) {
+    for (auto& v : m.point_data[0].values) v += 1;
+    m.time = 0.1 * k;
+    fem.add_mesh(0.1 * k, m);
+  }
+  RenderStyle style;
+  style.width = 200;
+  style.height = 150;
+  style.field = "x";
+  const auto pngs = render_series(fem.pvd_path(), dir_ / "png", style);
+  ASSERT_EQ(pngs.size(), 2u);
+  for (const auto& f : pngs) EXPECT_EQ(read_png(f).width, 200);
+}
+
+TEST_F(IoTest, ContactsAreDrawnOnlyWhenAsked) {
+  auto p = hex_patch(12, 12);
+  auto* state = p.bonds.find(kBondStateArray);
+  for (auto& v : state->values) v = static_cast<double>(BondState::Contact);
+  RenderRequest rq;
+  rq.particles = &p.cloud;
+  rq.bonds = &p.bonds;
+  rq.style.width = 400;
+  rq.style.height = 300;
+  auto green = [](int r, int g, int b) { return g > r + 60 && g > b + 60; };
+  rq.png = dir_ / "without.png";
+  render_frame(rq);
+  rq.style.show_contacts = true;
+  rq.png = dir_ / "with.png";
+  render_frame(rq);
+  EXPECT_EQ(count_in_model_area(read_png(dir_ / "without.png"), green), 0u);
+  EXPECT_GT(count_in_model_area(read_png(dir_ / "with.png"), green), 300u);
+}
+
 TEST_F(IoTest, RenderSeriesGivesOnePicturePerFrame) {
   auto p = hex_patch(10, 10);
   Series particles(dir_ / "out", "particles"), bonds(dir_ / "out", "bonds");

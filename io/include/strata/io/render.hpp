@@ -1,11 +1,14 @@
 #pragma once
-/// Headless pictures of particle frames: PNG files rendered by VTK off-screen.
+/// Headless pictures of particle and FEM frames: PNG files rendered by VTK off-screen.
 ///
 /// Particles are drawn as disks (2D, orthographic camera looking down -z, fitted to the
 /// bounds) or spheres (3D, perspective camera along a given direction, optional clip
 /// plane), coloured by a point array with a colour bar. Broken bonds are drawn on top as
-/// thick lines coloured by mode (tension, shear, closed again) with a legend and counts.
-/// A label gives the time and step. Call ensure_display() first (render_frame does it).
+/// thick lines coloured by mode (tension, shear, closed again) with a legend and counts;
+/// intact bonds and contacts only when asked. A FEM mesh (MeshFrame) is drawn shaded by a
+/// point or cell array of the same name, alone or under the particles of a coupled model,
+/// with the same colour bar, clip plane and camera. A label gives the time and step.
+/// Call ensure_display() first (render_frame does it).
 /// Without STRATA_WITH_RENDER these functions throw strata::Error (Unsupported).
 #include <array>
 #include <cstdint>
@@ -31,7 +34,8 @@ struct RenderStyle {
   int height = 1200;  ///< pixels
   std::string title;  ///< top line, e.g. "Uniaxial compression, 1033 disks" (may be empty)
 
-  /// Point array to colour particles by; empty or absent: one uniform colour.
+  /// Array to colour by: a point array of the particles, and a point or cell array of a
+  /// mesh (point data is preferred when both have it); empty or absent: one uniform colour.
   std::string field;
   /// Component of a multi-component field; -1 = magnitude.
   int component = -1;
@@ -50,24 +54,30 @@ struct RenderStyle {
   /// Bonds: draw broken ones (state != Intact); intact ones only when asked.
   bool show_broken_bonds = true;
   bool show_intact_bonds = false;
+  /// Contacts (BondState::Contact lines of the bond set) as thin lines, with a legend count.
+  bool show_contacts = false;
   double bond_line_width = 0;  ///< pixels; 0 = chosen from the picture size
 
   /// 3D camera: direction from the camera towards the model, and the up vector.
   std::array<double, 3> view_direction{-1.0, -0.6, -0.45};
   std::array<double, 3> view_up{0.0, 0.0, 1.0};
-  /// 3D clip plane (origin, normal): particles on the normal's side are removed.
+  /// 3D clip plane (origin, normal): particles, bonds and mesh cells on the normal's side
+  /// are removed (meshes are cut through, showing the field on the cut face).
   std::optional<std::array<double, 6>> clip_plane;
 };
 
 /// One picture: the data (not owned) and where to write it.
 struct RenderRequest {
-  const PointCloud* particles = nullptr;  ///< required; needs a `radius` point array
+  /// Particles; needs a `radius` point array. May be null when `mesh` is given.
+  const PointCloud* particles = nullptr;
+  /// A FEM mesh drawn under the particles (or alone). May be null.
+  const MeshFrame* mesh = nullptr;
   /// Bonds to draw, indexing `bond_points` (default: `particles`) and carrying a `state`
   /// cell array (BondState codes). May be null.
   const LineSet* bonds = nullptr;
   const PointCloud* bond_points = nullptr;
-  std::optional<double> time;        ///< seconds; default: particles->time
-  std::optional<std::int64_t> step;  ///< default: particles->step
+  std::optional<double> time;        ///< seconds; default: particles->time, else mesh->time
+  std::optional<std::int64_t> step;  ///< default: particles->step, else mesh->step
   std::filesystem::path png;         ///< output file
   RenderStyle style;
 };
@@ -75,19 +85,24 @@ struct RenderRequest {
 /// Renders one frame to `request.png` (parent folders created). Starts Xvfb if needed.
 void render_frame(const RenderRequest& request);
 
-/// Renders every frame of a particle series (a .pvd, read back with vtkXMLPolyDataReader)
-/// to `<out_dir>/frame_000000.png`, ... . Bonds come from `bonds_pvd` when given: its
-/// frames are matched to particle frames by time. Returns the PNG paths in order.
-std::vector<std::filesystem::path> render_series(const std::filesystem::path& particles_pvd,
+/// Renders every frame of a series to `<out_dir>/frame_000000.png`, ... . `pvd` is a
+/// particle series (.vtp frames) or a FEM series (.vtu frames, recognised by the
+/// extension of its first frame). Bonds come from `bonds_pvd` and a mesh under the
+/// particles from `mesh_pvd` when given: their frames are matched to the main frames by
+/// time. Returns the PNG paths in order.
+std::vector<std::filesystem::path> render_series(const std::filesystem::path& pvd,
                                                  const std::filesystem::path& out_dir,
                                                  const RenderStyle& style,
-                                                 const std::filesystem::path& bonds_pvd = {});
+                                                 const std::filesystem::path& bonds_pvd = {},
+                                                 const std::filesystem::path& mesh_pvd = {});
 
-/// Same, from an explicit list of particle frame files (bonds optional, same length or empty).
+/// Same, from explicit lists of frame files: particles (.vtp), bonds and meshes (.vtu),
+/// each empty or as long as the longest list (an empty path: none in that frame).
 std::vector<std::filesystem::path> render_frames(const std::vector<std::filesystem::path>& particle_files,
                                                  const std::filesystem::path& out_dir,
                                                  const RenderStyle& style,
-                                                 const std::vector<std::filesystem::path>& bond_files = {});
+                                                 const std::vector<std::filesystem::path>& bond_files = {},
+                                                 const std::vector<std::filesystem::path>& mesh_files = {});
 
 /// Encodes `<png_dir>/frame_%06d.png` into an H.264 movie (libx264, yuv420p, padded to
 /// even size) when `ffmpeg` is on PATH; otherwise logs that ffmpeg is not installed and

@@ -1,10 +1,12 @@
 #pragma once
 /// Time series of VTK frames with a ParaView collection (.pvd) index.
 ///
-/// A Series owns `<dir>/<name>.pvd` and frames `<dir>/<name>_<NNNNNN>.vtp`. After each
+/// A Series owns `<dir>/<name>.pvd` and frames `<dir>/<name>_<NNNNNN>.vtp` (particles,
+/// bonds) or `.vtu` (FEM meshes). After each
 /// completed frame the .pvd is rewritten to `<name>.pvd.tmp` and renamed onto `<name>.pvd`,
 /// so a run killed at any moment leaves a .pvd listing only complete frames. Particles and
-/// bonds go in two series (e.g. `particles.pvd`, `bonds.pvd`) that ParaView opens together.
+/// bonds go in two series (e.g. `particles.pvd`, `bonds.pvd`) that ParaView opens together;
+/// a FEM mesh in a third (e.g. `fem.pvd`).
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -26,6 +28,9 @@ struct PvdEntry {
 /// (relative paths stay relative to the .pvd's folder).
 std::vector<PvdEntry> read_pvd(const std::filesystem::path& pvd);
 
+/// Whether a .pvd collection lists FEM frames: its first frame is a .vtu file.
+bool is_mesh_series(const std::filesystem::path& pvd);
+
 /// Writes a .pvd collection atomically (through `<pvd>.tmp` and a rename).
 void write_pvd(const std::filesystem::path& pvd, const std::vector<PvdEntry>& entries);
 
@@ -37,7 +42,7 @@ class Series {
     Resume,  ///< keep the frames listed in the old .pvd (restart); see truncate_after
   };
 
-  /// Creates `dir` if needed. Stale `<name>_*.vtp.tmp` and `<name>.pvd.tmp` files left by
+  /// Creates `dir` if needed. Stale `<name>_*.vtp.tmp`, `<name>_*.vtu.tmp` and `<name>.pvd.tmp` files left by
   /// a killed run are removed.
   Series(std::filesystem::path dir, std::string name, Mode mode = Mode::Fresh);
 
@@ -48,18 +53,22 @@ class Series {
   /// Writes the next frame's bonds (write_lines) and updates the .pvd.
   std::filesystem::path add_lines(double time, const PointCloud& points, const LineSet& lines);
 
-  /// Generic form: calls `write(path)` for the next frame's path (the callback must leave
-  /// a complete file there, e.g. through write-to-temp-and-rename), then lists it in the
-  /// .pvd. If `write` throws, nothing is listed and the frame number is not used up.
-  std::filesystem::path add_frame(double time,
-                                  const std::function<void(const std::filesystem::path&)>& write);
+  /// Writes the next frame's mesh (write_mesh, a .vtu file) and updates the .pvd.
+  std::filesystem::path add_mesh(double time, const MeshFrame& mesh);
+
+  /// Generic form: calls `write(path)` for the next frame's path (with extension `ext`;
+  /// the callback must leave a complete file there, e.g. through write-to-temp-and-rename),
+  /// then lists it in the .pvd. If `write` throws, nothing is listed and the frame number
+  /// is not used up.
+  std::filesystem::path add_frame(double time, const std::function<void(const std::filesystem::path&)>& write,
+                                  const std::string& ext = ".vtp");
 
   /// Drops frames with time > `time` from the index (for a restart from a checkpoint at
   /// `time`); the .pvd is rewritten at once. The next frame number follows the last kept frame.
   void truncate_after(double time);
 
-  /// Path the next frame will get: `<dir>/<name>_<NNNNNN>.vtp`.
-  std::filesystem::path next_frame_path() const;
+  /// Path the next frame will get: `<dir>/<name>_<NNNNNN><ext>`.
+  std::filesystem::path next_frame_path(const std::string& ext = ".vtp") const;
   std::filesystem::path pvd_path() const { return dir_ / (name_ + ".pvd"); }
   const std::filesystem::path& dir() const { return dir_; }
   const std::string& name() const { return name_; }

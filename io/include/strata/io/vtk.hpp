@@ -1,7 +1,8 @@
 #pragma once
-/// VTK XML PolyData (.vtp) frames: particles as vertex cells, bonds as line cells.
+/// VTK XML frames: particles as vertex cells and bonds/contacts as line cells in PolyData
+/// (.vtp); FEM meshes as UnstructuredGrid (.vtu).
 ///
-/// Files are written by VTK's own vtkXMLPolyDataWriter in appended raw binary form,
+/// Files are written by VTK's own XML writers in appended raw binary form,
 /// zlib-compressed, with 64-bit block headers (pieces over 4 GiB stay readable). Each file
 /// is written to `<path>.tmp` in the same directory and renamed onto `<path>`, so a reader
 /// (or a run killed half-way) never sees a partial file under the final name.
@@ -32,5 +33,13 @@ struct VtpContents {
 /// Reads a .vtp file written by write_particles or write_lines (or any PolyData with
 /// points and lines). Integer VTK arrays come back with an integer ArrayType.
 VtpContents read_vtp(const std::filesystem::path& path);
+
+/// Writes a mesh as an unstructured grid (.vtu, vtkXMLUnstructuredGridWriter) with its
+/// point and cell arrays; `dim`, `time` and `step` become field data, as for particles.
+void write_mesh(const std::filesystem::path& path, const MeshFrame& mesh);
+
+/// Reads a .vtu file written by write_mesh (or any unstructured grid of lines, triangles
+/// and tetrahedra; other cell types are refused). Integer arrays keep an integer ArrayType.
+MeshFrame read_vtu(const std::filesystem::path& path);
 
 }  // namespace strata::io

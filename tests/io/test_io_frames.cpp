@@ -1,0 +1,165 @@
+// The driver's frame builders (apps/src/frames.cpp) written with io and read back with VTK's
+// own readers: contacts as line cells with state 4 in the bond frames, and FEM meshes as
+// unstructured grids with displacement, velocity and element stress.
+#include <gtest/gtest.h>
+#include <strata/config.hpp>
+#include <strata/dem/simulation.hpp>
+#include <strata/fem/mesh.hpp>
+#include <strata/io/vtk.hpp>
+
+#include <cmath>
+
+#include "frames.hpp"
+#include "io_test_util.hpp"
+
+#if STRATA_WITH_VTK
+#include <vtkCellData.h>
+#include <vtkDataArray.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkUnstructuredGrid.h>
+#include <vtkXMLPolyDataReader.h>
+#include <vtkXMLUnstructuredGridReader.h>
+#endif
+
+namespace fs = std::filesystem;
+using namespace strata;
+using namespace strata::io::test;
+
+#if STRATA_WITH_VTK
+namespace {
+/// Three unbonded disks: 0 and 1 overlap by 5 % of a radius, 2 is far away.
+dem::Simulation three_disks() {
+  dem::Material m;
+  m.density = 2650;
+  m.kn = 1e7;
+  m.ks = 4e6;
+  m.friction = 0.5;
+  dem::Simulation sim(2, dem::Settings{.dt = 1e-9, .allow_unstable = true});
+  const int mat = sim.add_material(m);
+  const double r = 0.5e-3;
+  sim.add_particle({0, 0, 0}, r, mat);
+  sim.add_particle({1.95 * r, 0, 0}, r, mat);
+  sim.add_particle({10 * r, 0, 0}, r, mat);
+  sim.add_to_group({0, 1}, "pair");
+  sim.add_to_group({2}, "lonely");
+  sim.initialise();
+  sim.run(1);
+  return sim;
+}
+}  // namespace
+
+TEST_F(IoTest, ContactsAreLineCellsWithState4) {
+  const dem::Simulation sim = three_disks();
+  // The engine's own view of the touching contact, to compare the file with.
+  std::vector<dem::PairView> touching;
+  for (const auto& c : sim.contacts())
+    if (c.kind == dem::PairKind::Contact && c.touching) touching.push_back(c);
+  ASSERT_EQ(touching.size(), 1u);
+  EXPECT_GT(touching[0].fn, 0.0) << "overlapping disks push apart: compression is positive";
+
+  app::FrameSelection sel;
+  sel.bonds = app::FrameSelection::Bonds::All;
+  const io::PointCloud all = app::particle_frame(sim, {"id"});
+  const io::LineSet lines = app::bond_frame(sim, sel);
+  const auto file = dir_ / "bonds.vtp";
+  io::write_lines(file, all, lines);
+
+  vtkNew<vtkXMLPolyDataReader> r;
+  r->SetFileName(file.c_str());
+  r->Update();
+  vtkPolyData* pd = r->GetOutput();
+  ASSERT_EQ(pd->GetNumberOfLines(), 1);  // no bonds; one touching contact; disk 2 touches nothing
+  EXPECT_EQ(pd->GetNumberOfPoints(), 2);
+  auto* state = pd->GetCellData()->GetArray("state");
+  auto* fn = pd->GetCellData()->GetArray("Fn");
+  auto* fs = pd->GetCellData()->GetArray("Fs");
+  ASSERT_TRUE(state && fn && fs);
+  EXPECT_EQ(state->GetComponent(0, 0), static_cast<double>(io::BondState::Contact));
+  EXPECT_EQ(state->GetComponent(0, 0), 4.0);
+  EXPECT_EQ(fn->GetComponent(0, 0), touching[0].fn);  // Float64 written and read: exact
+  EXPECT_EQ(fs->GetComponent(0, 0), touching[0].fs);
+  auto* ids = pd->GetPointData()->GetArray("id");
+  ASSERT_TRUE(ids);
+  EXPECT_EQ(ids->GetComponent(0, 0) + ids->GetComponent(1, 0), 1.0);  // particles 0 and 1
+
+  // Selections: no contacts when switched off, and only those inside the selected groups.
+  sel.contacts = false;
+  EXPECT_EQ(app::bond_frame(sim, sel).size(), 0u);
+  sel.contacts = true;
+  dem::Simulation copy = three_disks();
+  sel.group_mask = 1u << copy.group_bit("lonely");
+  EXPECT_EQ(app::bond_frame(copy, sel).size(), 0u);
+  sel.group_mask = 1u << copy.group_bit("pair");
+  EXPECT_EQ(app::bond_frame(copy, sel).size(), 1u);
+  sel.group_mask = 0;
+  sel.slice_thickness = 0.2e-3;  // a slice x = 0 ± 0.1 mm holds disk 0 only
+  sel.slice_point = {0, 0, 0};
+  sel.slice_normal = {1, 0, 0};
+  EXPECT_EQ(app::bond_frame(copy, sel).size(), 0u);
+}
+
+// A plane-strain rectangle under a uniform strain: the .vtu holds the nodes, triangles,
+// displacement, velocity and the analytical stress in ParaView's tensor order.
+TEST_F(IoTest, FemFrameReadsBackWithStressOfAConstantStrain) {
+  const double E = 30e9, nu = 0.2, exx = 2e-4, eyy = -5e-5, gxy = 1e-4;
+  fem::Material mat{.E = E, .nu = nu, .rho = 2500, .thickness = 1.0, .plane = fem::PlaneMode::Strain};
+  const fem::Mesh mesh = fem::rectangle_tri_mesh(3, 2, 1.5, 1.0, mat);
+  Eigen::VectorXd u(static_cast<Eigen::Index>(mesh.dofs())), v(u.size());
+  for (std::size_t i = 0; i < mesh.nodes(); ++i) {
+    const double x = mesh.x[0][i], y = mesh.x[1][i];
+    u[2 * i] = exx * x + gxy * y;
+    u[2 * i + 1] = eyy * y;
+    v[2 * i] = 0.1 * x;
+    v[2 * i + 1] = -0.2 * y;
+  }
+  const io::MeshFrame frame = app::fem_frame(mesh, u, v, 2.5e-3, 77);
+  const auto file = dir_ / "fem.vtu";
+  io::write_mesh(file, frame);
+  EXPECT_FALSE(fs::exists(dir_ / "fem.vtu.tmp"));
+
+  vtkNew<vtkXMLUnstructuredGridReader> r;
+  r->SetFileName(file.c_str());
+  r->Update();
+  vtkUnstructuredGrid* ug = r->GetOutput();
+  ASSERT_EQ(ug->GetNumberOfPoints(), 12);  // (3 + 1) x (2 + 1) nodes
+  ASSERT_EQ(ug->GetNumberOfCells(), 12);   // 3 x 2 squares, two triangles each
+  for (vtkIdType c = 0; c < ug->GetNumberOfCells(); ++c) EXPECT_EQ(ug->GetCellType(c), VTK_TRIANGLE);
+  auto* disp = ug->GetPointData()->GetArray("displacement");
+  auto* vel = ug->GetPointData()->GetArray("velocity");
+  auto* stress = ug->GetCellData()->GetArray("stress");
+  auto* mises = ug->GetCellData()->GetArray("von_mises");
+  ASSERT_TRUE(disp && vel && stress && mises);
+  ASSERT_EQ(stress->GetNumberOfComponents(), 6);
+  for (vtkIdType i = 0; i < ug->GetNumberOfPoints(); ++i) {
+    double x[3];
+    ug->GetPoint(i, x);
+    EXPECT_EQ(x[2], 0.0);
+    EXPECT_DOUBLE_EQ(disp->GetComponent(i, 0), exx * x[0] + gxy * x[1]);
+    EXPECT_DOUBLE_EQ(disp->GetComponent(i, 1), eyy * x[1]);
+    EXPECT_EQ(disp->GetComponent(i, 2), 0.0);
+    EXPECT_DOUBLE_EQ(vel->GetComponent(i, 1), -0.2 * x[1]);
+  }
+  // Plane strain Hooke's law; the linear triangle reproduces a uniform strain exactly, so
+  // the tolerance is round-off (1e-9 of the largest stress).
+  const double c = E / ((1 + nu) * (1 - 2 * nu));
+  const double sxx = c * ((1 - nu) * exx + nu * eyy), syy = c * (nu * exx + (1 - nu) * eyy);
+  const double szz = nu * (sxx + syy), sxy = E / (2 * (1 + nu)) * gxy;
+  const double want[6] = {sxx, syy, szz, sxy, 0, 0};  // xx, yy, zz, xy, yz, xz
+  const double vm =
+      std::sqrt(0.5 * ((sxx - syy) * (sxx - syy) + (syy - szz) * (syy - szz) + (szz - sxx) * (szz - sxx)) +
+                3 * sxy * sxy);
+  const double tol = 1e-9 * std::abs(sxx);
+  for (vtkIdType e = 0; e < ug->GetNumberOfCells(); ++e) {
+    for (int k = 0; k < 6; ++k) EXPECT_NEAR(stress->GetComponent(e, k), want[k], tol) << e << " " << k;
+    EXPECT_NEAR(mises->GetComponent(e, 0), vm, tol);
+  }
+  const io::MeshFrame back = io::read_vtu(file);
+  EXPECT_EQ(back.dim, 2);
+  EXPECT_EQ(back.time, 2.5e-3);
+  EXPECT_EQ(back.step, 77);
+  EXPECT_EQ(back.connectivity, frame.connectivity);
+  ASSERT_TRUE(back.find_cell("block"));
+  EXPECT_EQ(back.find_cell("block")->type, io::ArrayType::Int32);
+}
+#endif
