@@ -18,6 +18,7 @@
 #include "render_cmd.hpp"
 #include "report.hpp"
 #include "scene/scene.hpp"
+#include "wave_report.hpp"
 
 namespace strata::app {
 namespace {
@@ -68,6 +69,7 @@ int main(int argc, char** argv) {
       "      --set solver.steps=200000 --set output.frames=10\n"
       "  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --set solver.steps=400000 \\\n"
       "      --restart out/c1/checkpoint.h5\n"
+      "  strata run examples/02_metamaterial_chain/scene.toml -o out/meta   # coupled chain: eta sweep\n"
       "SIGINT (Ctrl-C) or SIGTERM stop a run between two chunks of steps: it writes the current frame\n"
       "and OUTDIR/checkpoint.h5, and exits with status 130 or 143.");
 
@@ -78,7 +80,9 @@ int main(int argc, char** argv) {
   check->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   check->add_option("--set", opt.overrides, "Override a scene key: KEY=VALUE (repeatable)")->take_all();
   check->add_flag("--json", check_json, "Print one JSON object instead of text");
-  check->footer("Example:\n  strata check examples/01_uniaxial_compression/scene.toml --set solver.dt=1e-7");
+  check->footer(
+      "Example:\n  strata check examples/01_uniaxial_compression/scene.toml --set solver.dt=1e-7\n"
+      "  strata check examples/02_metamaterial_chain/paper.toml   # coupled chain: exit 2, dt_DEM unstable");
 
   // ---- mesh ----
   bool mesh_json = false;
@@ -108,24 +112,48 @@ int main(int argc, char** argv) {
   RenderOptions ropt;
   auto* render = app.add_subcommand(
       "render", "Draw every frame of a series to PNG (starts Xvfb when there is no display)");
-  render->add_option("series", ropt.series, "Particle series (.pvd) written by 'strata run'")
+  render
+      ->add_option("series", ropt.series,
+                   "Particle series (.pvd) written by 'strata run', or a FEM series (.vtu frames)")
       ->required()
       ->check(CLI::ExistingFile);
   render->add_option("-o,--output", ropt.output, "Directory for the PNG frames (default: <series dir>/png)");
-  render->add_option("--field", ropt.field, "Point array to colour particles by (e.g. damage, displacement)");
+  render->add_option("--field", ropt.field,
+                     "Array to colour by (default: damage for particles, displacement for a FEM series)");
   render->add_option("--size", ropt.size, "Picture size in pixels: W H")->expected(2);
   render->add_flag("--no-movie", ropt.no_movie, "Do not write an MP4 even when ffmpeg is installed");
-  render->footer("Example:\n  strata render out/c1/particles.pvd -o out/c1/png --field damage");
+  render->add_option("--mesh", ropt.mesh, "FEM series (.pvd of .vtu frames) drawn under the particles")
+      ->check(CLI::ExistingFile);
+  render->add_flag("--contacts", ropt.contacts, "Also draw contacts (state 4 lines of bonds.pvd)");
+  // A list option checked by number_list_error: a bad one exits with status 2 and says why.
+  auto numbers = [](std::size_t count, std::size_t nonzero_from, std::string what) {
+    return CLI::Validator(
+        [=](std::string& text) { return number_list_error(text, count, nonzero_from, what); }, what);
+  };
+  render->add_option("--view", ropt.view, "3D: direction from the camera to the model, X,Y,Z")
+      ->check(numbers(3, 0, "a view direction X,Y,Z"));
+  render->add_option("--up", ropt.up, "3D: the direction shown upwards, X,Y,Z")
+      ->check(numbers(3, 0, "an up vector X,Y,Z"));
+  render->add_option("--clip", ropt.clip, "3D: leave out what lies on the normal's side of a plane")
+      ->check(numbers(6, 3, "a clip plane OX,OY,OZ,NX,NY,NZ"));
+  render->footer(
+      "Examples:\n  strata render out/c1/particles.pvd -o out/c1/png --field damage\n"
+      "  strata render out/c3d/particles.pvd --view -1,-1,-0.5 --up 0,0,1 --clip 0,0,0,0,1,0\n"
+      "  strata render out/fem/fem.pvd --field von_mises");
 
   // ---- report ----
   ReportOptions rep;
-  auto* report = app.add_subcommand(
-      "report", "Error against run time of the coupled chain cases (SPEC C3) over eta: CSV, Markdown, PNG");
-  report->add_option("case", rep.case_name, "chain6 or metamaterial")
+  auto* report = app.add_subcommand("report",
+                                    "Coupled FEM-DEM reports over eta: error against run time of the chain "
+                                    "cases (SPEC C3), reflection of a "
+                                    "wave at a 2D coupled interface (wave): CSV, Markdown, PNG");
+  report->add_option("case", rep.case_name, "chain6, metamaterial or wave")
       ->required()
-      ->check(CLI::IsMember({"chain6", "metamaterial"}));
+      ->check(CLI::IsMember({"chain6", "metamaterial", "wave"}));
   report->add_option("-o,--output", rep.output, "Directory for <case>_sweep.{csv,md,png}");
-  report->add_option("--eta", rep.etas, "Time-step ratios (integers >= 1)")->check(CLI::PositiveNumber);
+  auto* report_eta =
+      report->add_option("--eta", rep.etas, "Time-step ratios (integers >= 1; wave default 1 2 4 5 10)")
+          ->check(CLI::PositiveNumber);
   report->add_option("--modes", rep.modes, "serial, parallel or both")
       ->check(CLI::IsMember({"serial", "parallel", "both"}));
   report->add_option("--dt-dem", rep.dt_dem, "DEM step (s); default 1e-4 (chain6), 5e-5 (metamaterial)")
@@ -146,8 +174,27 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   report->add_flag("--check", rep.check_only, "Only check the time step (exit 2 when unstable)");
   report->add_flag("--no-plot", rep.no_plot, "Do not write the PNG plot");
+  WaveOptions wave;  // `report wave` only
+  report
+      ->add_option("--geometry", wave.geometry,
+                   "wave: geometry file with the two regions (default examples/04_coupled_wave/wave.geo)")
+      ->check(CLI::ExistingFile);
+  report->add_option("--particle-region", wave.particle_region, "wave: physical group filled with particles");
+  report->add_option("--fem-region", wave.fem_region, "wave: physical group meshed for the FEM");
+  report->add_option("--wavelengths", wave.wavelengths, "wave: pulse lengths c*T in particle diameters")
+      ->check(CLI::PositiveNumber);
+  report
+      ->add_option("--dt-fraction", wave.dt_fraction,
+                   "wave: dt_DEM as a fraction of the lattice's critical step")
+      ->check(CLI::Range(1e-6, 1.0));
+  report->add_option("--fem-far-size", wave.fem_far_size, "wave: largest FEM element in particle diameters")
+      ->check(CLI::Range(1.0, 100.0));
+  report->add_option("--threads", wave.threads, "wave: threads of the loops inside each partition (0 = all)")
+      ->check(CLI::NonNegativeNumber);
+  report->add_flag("--quick", wave.quick, "wave: eta 1 and 5, one wavelength (20 d): a few seconds");
   report->footer(
-      "Examples:\n  strata report chain6 -o out/chain6\n  strata report metamaterial --dt-dem 1e-4 --check");
+      "Examples:\n  strata report chain6 -o out/chain6\n  strata report metamaterial --dt-dem 1e-4 --check\n"
+      "  strata report wave -o out/wave --wavelengths 10 20 40");
 
   // ---- reference ----
   std::string ref_out;
@@ -173,6 +220,15 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*render) return render_series_cmd(ropt);
+    if (*report && rep.case_name == "wave") {
+      wave.output = report->count("--output") ? rep.output : std::filesystem::path("out/wave");
+      if (report_eta->count()) wave.etas = rep.etas;
+      wave.modes = rep.modes;
+      if (!rep.fem_scheme.empty()) wave.fem_scheme = rep.fem_scheme;
+      wave.repeats = report->count("--repeats") ? rep.repeats : 1;
+      wave.no_plot = rep.no_plot;
+      return wave_report_cmd(wave);
+    }
     if (*report) return report_cmd(rep);
     if (*reference) {
       const std::string md = scene::reference_markdown();

@@ -17,6 +17,7 @@
 #include <strata/io/render.hpp>
 #include <strata/io/series.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -27,6 +28,7 @@
 #include "frames.hpp"
 #include "mesh_report.hpp"
 #include "model_builder.hpp"
+#include "report.hpp"
 #include "scene/scene.hpp"
 
 namespace strata::app {
@@ -55,7 +57,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 scene::Scene load_scene(const SceneOptions& opt) {
   scene::Scene sc = scene::load(opt.scene, opt.overrides);
-  const int threads = opt.threads >= 0 ? opt.threads : int(sc.table("solver").integer("threads"));
+  const scene::Table& threads_of = sc.coupled() ? sc.table("coupled") : sc.table("solver");
+  const int threads = opt.threads >= 0 ? opt.threads : int(threads_of.integer("threads"));
   par::set_threads(threads);
   return sc;
 }
@@ -156,11 +159,36 @@ class RunOutput {
     w.put("driver/probes/step", probe_steps_);
   }
 
-  /// How pictures look: the scene's title and [output] render_field.
+  /// How pictures look: the scene's title and [output] render_field, render_contacts,
+  /// view_direction, view_up and clip_plane (checked by check_render_keys).
   io::RenderStyle render_style() const {
     io::RenderStyle style = field_style(out_.str("render_field"));
     style.title = title_;
+    style.show_contacts = out_.boolean("render_contacts");
+    for (std::size_t a = 0; a < 3; ++a) {
+      style.view_direction[a] = out_.reals("view_direction")[a];
+      style.view_up[a] = out_.reals("view_up")[a];
+    }
+    if (out_.has("clip_plane")) {
+      std::array<double, 6> c{};
+      std::copy_n(out_.reals("clip_plane").begin(), 6, c.begin());
+      style.clip_plane = c;
+    }
     return style;
+  }
+
+  /// Checks what the schema cannot: no zero view or clip normal, up not along the view.
+  static void check_render_keys(const scene::Table& out) {
+    auto norm = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+    const double* d = out.reals("view_direction").data();
+    const double* u = out.reals("view_up").data();
+    if (norm(d) == 0) out.fail("view_direction", "the view direction must not be zero");
+    if (norm(u) == 0) out.fail("view_up", "the up vector must not be zero");
+    const double cross[3] = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
+    if (norm(cross) <= 1e-9 * norm(d) * norm(u))
+      out.fail("view_up", "the up vector must not be parallel to view_direction");
+    if (out.has("clip_plane") && norm(out.reals("clip_plane").data() + 3) == 0)
+      out.fail("clip_plane", "the clip plane's normal (the last three numbers) must not be zero");
   }
 
   /// Step of the last frame written by this process (-1: none).
@@ -195,7 +223,7 @@ class RunOutput {
     if (!out_.boolean("vtk")) return;
     const io::PointCloud all = particle_frame(m.sim, fields_);
     const io::PointCloud pc = select_particles(m.sim, all, selection_);
-    const io::LineSet bonds = bond_frame(m.sim, selection_.bonds);
+    const io::LineSet bonds = bond_frame(m.sim, selection_);
     particles_.add_particles(m.sim.time(), pc);
     bonds_.add_lines(m.sim.time(), all, bonds);
 #if STRATA_WITH_RENDER
@@ -226,6 +254,8 @@ class RunOutput {
     selection_.bonds = b == "all"    ? FrameSelection::Bonds::All
                        : b == "none" ? FrameSelection::Bonds::None
                                      : FrameSelection::Bonds::Broken;
+    selection_.contacts = out.boolean("contacts");
+    check_render_keys(out);
     for (const auto& g : out.strings("groups")) {
       if (!m.groups.count(g)) out.fail("groups", fmt::format("no [[group]] or [[region]] is called '{}'", g));
       selection_.group_mask |= 1u << m.sim.group_bit(g);
@@ -381,6 +411,7 @@ std::string scene_fingerprint(const scene::Scene& sc) {
     if (spec.name == "output") continue;
     const std::vector<scene::Table>* list = &sc.tables(spec.name);
     std::vector<scene::Table> plain;
+    if (!spec.array && sc.tables(spec.name).empty()) continue;  // [coupled] of a particle scene
     if (!spec.array) plain.push_back(sc.table(spec.name)), list = &plain;
     for (const scene::Table& t : *list) {
       mix(t.label());
@@ -415,6 +446,9 @@ std::string scene_fingerprint(const scene::Scene& sc) {
           }
           case T::RealList:
             mix(fmt::format("{}", fmt::join(t.reals(k.name), ",")));
+            break;
+          case T::IntegerList:
+            mix(fmt::format("{}", fmt::join(t.integers(k.name), ",")));
             break;
           case T::StringList:
             mix(fmt::format("{}", fmt::join(t.strings(k.name), ",")));
@@ -584,6 +618,7 @@ struct Cadence {
 
 int check_scene(const SceneOptions& opt, bool json_out) {
   const scene::Scene sc = load_scene(opt);
+  if (sc.coupled()) return check_coupled_scene(sc, json_out, opt.force);  // report.cpp
   const BuiltModel m = build_model(sc, opt.force);
   const json j = model_json(m, sc);
   if (json_out)
@@ -595,6 +630,10 @@ int check_scene(const SceneOptions& opt, bool json_out) {
 
 int mesh_scene(const SceneOptions& opt, bool json_out) {
   const scene::Scene sc = load_scene(opt);
+  STRATA_CHECK(!sc.coupled(), Input,
+               "{}: a coupled-chain scene ([coupled]) has no mesh to build; use 'strata check' for its "
+               "stability numbers or 'strata run' for the sweep",
+               sc.file.string());
   const BuiltModel m = build_model(sc, /*force=*/true);
   json j = model_json(m, sc);
   j["seconds"] = m.build_seconds;
@@ -635,6 +674,12 @@ int run_scene(const SceneOptions& opt) {
   // Validate and build everything, and check a checkpoint to restart from, before the first
   // byte is written.
   const scene::Scene sc = load_scene(opt);
+  if (sc.coupled()) {  // report.cpp: checks, the sweep, then its files all at once
+    STRATA_CHECK(opt.restart.empty(), Input,
+                 "--restart: {} is a coupled-chain scene ([coupled]); its sweep has no checkpoints",
+                 sc.file.string());
+    return run_coupled_scene(sc, opt.output, opt.force);
+  }
   const scene::Table& o = sc.table("output");
   if (!STRATA_WITH_HDF5 && !opt.restart.empty())
     fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (--restart)");

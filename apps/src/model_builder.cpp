@@ -144,6 +144,7 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   set.viscous_c = solver.real("viscous_c");
   set.local_alpha = solver.real("local_damping");
   set.gravity = vec3(solver.reals("gravity"));
+  set.min_particles_per_thread = int(solver.integer("min_particles_per_thread"));
   // Contact search only where new contacts can form: between particles whose bonds can
   // break, between regions, or against walls. "on"/"off" override.
   bool breakable = false;

@@ -1,9 +1,15 @@
 #pragma once
-/// `strata report chain6|metamaterial`: error-versus-run-time sweeps of the coupled chain
-/// cases of SPEC C3 over η (serial and parallel), written as CSV, Markdown and a PNG plot.
+/// Error-versus-run-time sweeps of the coupled chain cases of SPEC C3 over η (serial and
+/// parallel), written as CSV, Markdown, a PNG plot and summary.json. Two entry points share
+/// one path: `strata report chain6|metamaterial [options]` and `strata check|run SCENE` of a
+/// coupled-chain scene ([coupled], see docs/scene-reference.md).
 #include <filesystem>
 #include <string>
 #include <vector>
+
+namespace strata::scene {
+class Scene;
+}
 
 namespace strata::app {
 
@@ -21,10 +27,29 @@ struct ReportOptions {
   int repeats = 3;               ///< runs per point, fastest kept
   bool check_only = false;       ///< print the stability numbers and stop (exit 2 when unstable)
   bool no_plot = false;
+  /// Refuse the whole sweep (exit 2, before it starts) when an η point would be refused by
+  /// the coupler (η·dt_DEM above the explicit FEM limit). Otherwise the metamaterial table
+  /// shows such points as "refused"; chain6 is always refused as a whole.
+  bool refuse_unstable_eta = false;
+  std::string title;            ///< shown in the Markdown header and summary.json
+  std::filesystem::path scene;  ///< the scene file (summary.json); empty for `strata report`
 };
 
-/// Runs the sweep and writes the files; returns the exit status (throws strata::Error, e.g.
-/// Input for an unstable dt_DEM, which main() maps to exit status 2).
+/// `strata report`: prints the stability numbers, runs the sweep and writes the files; returns
+/// the exit status. Throws strata::Error, e.g. Input for an unstable dt_DEM, which main() maps
+/// to exit status 2; nothing is written then, and the files appear in `output` all at once.
 int report_cmd(const ReportOptions& opt);
+
+/// The report options of a coupled-chain scene ([coupled]); output is the scene's
+/// output.directory, no_plot is !output.render, refuse_unstable_eta is !force.
+ReportOptions coupled_report_options(const scene::Scene& sc, bool force);
+
+/// `strata check SCENE` of a coupled-chain scene: the stability numbers per partition and per
+/// η; throws Input (exit 2) at the scene key (file:line:col) when dt_DEM or an η is unstable.
+int check_coupled_scene(const scene::Scene& sc, bool json, bool force);
+
+/// `strata run SCENE` of a coupled-chain scene: the same checks, then the sweep, written to
+/// `output` (empty: the scene's output.directory) through a staging folder.
+int run_coupled_scene(const scene::Scene& sc, const std::filesystem::path& output, bool force);
 
 }  // namespace strata::app

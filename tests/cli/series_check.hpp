@@ -11,3 +11,9 @@ struct FrameCounts {
   std::vector<std::string> arrays;  ///< point-array names
 };
 FrameCounts frame_counts(const std::filesystem::path& vtp);
+
+/// Whether this build draws pictures (STRATA_WITH_RENDER).
+bool have_render();
+/// Writes `<dir>/fem.pvd` with two frames of a small tetrahedral box (point array
+/// "displacement", cell array "cx").
+void write_mesh_series(const std::filesystem::path& dir);

@@ -532,3 +532,74 @@ TEST(Cli, SelectiveOutputWritesOnlyWhatIsAsked) {
   EXPECT_EQ(std::find(forces.arrays.begin(), forces.arrays.end(), "velocity"), forces.arrays.end());
   fs::remove_all(d);
 }
+
+// `strata render --view/--up/--clip` are checked when parsed: a wrong count, a word or a
+// zero direction exits with status 2 and names the option and what it expects.
+TEST(Cli, RenderViewAndClipOptionsAreValidated) {
+  const fs::path d = temp_dir("render_opts");
+  const fs::path pvd = write(d, "particles.pvd", "<?xml version=\"1.0\"?>\n");
+  struct Case {
+    std::string args, expect;
+  };
+  const Case cases[] = {
+      {"--clip 1,2,3", "clip plane OX,OY,OZ,NX,NY,NZ"},
+      {"--clip 0,0,0,0,0,0", "normal must not be zero"},
+      {"--clip 1,2,3,4,5,x", "6 comma-separated numbers"},
+      {"--view 1,2", "view direction X,Y,Z"},
+      {"--view 0,0,0", "must not be zero"},
+      {"--up 0,0,inf", "an up vector X,Y,Z"},
+  };
+  for (const auto& c : cases) {
+    const auto r = strata("render " + pvd.string() + " " + c.args);
+    EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.args.substr(0, c.args.find(' '))), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(d / "png"));
+  fs::remove_all(d);
+}
+
+// The same settings as [output] keys are validated before a run writes anything.
+TEST(Cli, RenderSceneKeysAreValidated) {
+  const fs::path d = temp_dir("render_keys");
+  const fs::path f = write(d, "s.toml", small_scene("[output]\nframes = 1\n"));
+  const auto bad_len = strata("run " + f.string() + " -o " + (d / "a").string() +
+                              " --set 'output.clip_plane=[0.0, 0.0, 1.0]'");
+  EXPECT_EQ(bad_len.status, 2) << bad_len.output;
+  EXPECT_NE(bad_len.output.find("clip_plane must have 6"), std::string::npos) << bad_len.output;
+  const auto zero = strata("run " + f.string() + " -o " + (d / "b").string() +
+                           " --set 'output.clip_plane=[0.0, 0.0, 0.0, 0.0, 0.0, 0.0]'");
+  EXPECT_EQ(zero.status, 2) << zero.output;
+  EXPECT_NE(zero.output.find("normal (the last three numbers) must not be zero"), std::string::npos)
+      << zero.output;
+  const auto parallel =
+      strata("run " + f.string() + " -o " + (d / "c").string() + " --set 'output.view_up=[2.0, 1.2, 0.9]'");
+  EXPECT_EQ(parallel.status, 2) << parallel.output;
+  EXPECT_NE(parallel.output.find("parallel to view_direction"), std::string::npos) << parallel.output;
+  EXPECT_FALSE(fs::exists(d / "a" / "particles.pvd"));
+  EXPECT_FALSE(fs::exists(d / "c" / "particles.pvd"));
+  fs::remove_all(d);
+}
+
+// A run that renders while running with the render keys set, and `strata render` of a FEM
+// series (.vtu frames) with a 3D view and a clip plane.
+TEST(Cli, RenderWithViewClipAndFemSeries) {
+  if (!have_render()) GTEST_SKIP() << "pictures need STRATA_WITH_RENDER";
+  const fs::path d = temp_dir("render_fem");
+  const fs::path f = write(d, "s.toml",
+                           small_scene("[output]\nframes = 1\nmovie = false\nrender_while_running = true\n"
+                                       "render_contacts = true\nview_direction = [0.0, -1.0, -1.0]\n"
+                                       "clip_plane = [0.0, 0.0, 0.0, 0.0, 0.0, 1.0]\n"));
+  const auto run = strata("run " + f.string() + " -o " + (d / "run").string());
+  EXPECT_EQ(run.status, 0) << run.output;
+  EXPECT_TRUE(fs::exists(d / "run" / "png" / "frame_000001.png")) << run.output;
+
+  write_mesh_series(d / "fem");
+  const auto r =
+      strata("render " + (d / "fem" / "fem.pvd").string() + " -o " + (d / "png").string() +
+             " --size 200 150 --no-movie --field cx --view -1,-0.5,-0.5 --up 0,0,1 --clip 1,1,1,1,0,0");
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(d / "png" / "frame_000000.png")) << r.output;
+  EXPECT_TRUE(fs::exists(d / "png" / "frame_000001.png")) << r.output;
+  fs::remove_all(d);
+}

@@ -102,7 +102,7 @@ const std::string kMaterialKeys =
     "name, law, density, kn, ks, friction, tensile_strength, shear_strength, friction_strengthens_bonds";
 const std::string kSolverKeys =
     "dt, dt_safety, steps, duration, damping, viscous_c, local_damping, gravity, contact_detection, "
-    "allow_unstable, threads";
+    "allow_unstable, threads, min_particles_per_thread";
 
 }  // namespace
 
@@ -332,11 +332,11 @@ TEST(SceneErrors, FourAcceptanceErrorsHaveExactPositionsAndDifferentMessages) {
 TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
   EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
             "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
-            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
   EXPECT_EQ(
       error_of(edit("[[group]]", "[[groups]]")),
       "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
-      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
 }
 
 TEST(SceneErrors, TableWrittenWithTheWrongBrackets) {
@@ -512,7 +512,7 @@ TEST(SceneOverrides, ErrorsPointAtTheOverride) {
   EXPECT_EQ(
       error_of(kBase, {"solvr.dt=1"}),
       "--set solvr.dt=1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
-      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe])");
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
   EXPECT_EQ(
       error_of(kBase, {"output.render_field=dmage"}),
       "--set output.render_field=dmage: render_field = \"dmage\" must be one of displacement, velocity, "

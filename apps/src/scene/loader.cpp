@@ -95,6 +95,12 @@ const std::vector<double>& Table::reals(const std::string& key) const {
   return v.reals;
 }
 
+const std::vector<std::int64_t>& Table::integers(const std::string& key) const {
+  const Value& v = get(key);
+  if (v.type != Type::IntegerList) wrong_access(label_, key, "a list of integers");
+  return v.integers;
+}
+
 const std::vector<std::string>& Table::strings(const std::string& key) const {
   const Value& v = get(key);
   if (v.type != Type::StringList) wrong_access(label_, key, "a list of strings");
@@ -626,9 +632,45 @@ class Loader {
       }
     }
 
+    // A coupled-chain scene ([coupled]) describes the whole model: particle and mesh tables
+    // cannot be mixed with it, and of [output] only some keys apply.
+    const toml::node* coupled_node = root.get("coupled");
+    const bool coupled = coupled_node && coupled_node->is_table();
+    const auto& coupled_tables = coupled_scene_tables();
+    const auto& coupled_keys = coupled_output_keys();
+    const std::string coupled_at = coupled ? pos_of(*coupled_node).str() : "";
+    std::vector<std::string> coupled_besides;
+    for (const auto& name : coupled_tables)
+      if (name != "coupled") coupled_besides.push_back(bracket(*find_table(name)));
+
     for (const TableSpec& spec : schema()) {
       const toml::node* node = root.get(spec.name);
       std::vector<Table>& out = scene.entries[spec.name];
+      if (spec.name == "coupled" && !coupled) continue;  // no entry: not a coupled-chain scene
+      if (coupled &&
+          std::find(coupled_tables.begin(), coupled_tables.end(), spec.name) == coupled_tables.end()) {
+        if (node) {
+          const toml::array* arr = node->as_array();
+          report(arr && !arr->empty() ? pos_of((*arr)[0]) : pos_of(*node),
+                 fmt::format("{} cannot be mixed with [coupled] ({}): a coupled-chain scene describes the "
+                             "whole model in [coupled] and may hold besides only {} (keys {}); remove {} or "
+                             "[coupled]",
+                             bracket(spec), coupled_at, join(coupled_besides), join(coupled_keys),
+                             bracket(spec)));
+        }
+        if (!spec.array) out.push_back(check_table(spec, nullptr, spec.name, file_start(), 0));
+        continue;
+      }
+      if (coupled && spec.name == "output" && node && node->is_table()) {
+        for (auto&& [k, v] : *node->as_table()) {
+          if (!find_key(spec, k.str()) ||
+              std::find(coupled_keys.begin(), coupled_keys.end(), k.str()) != coupled_keys.end())
+            continue;  // unknown keys are reported by check_table
+          report(pos_of(k, v), fmt::format("output.{} does not apply to a coupled-chain scene ([coupled] at "
+                                           "{}): its [output] takes only {}",
+                                           k.str(), coupled_at, join(coupled_keys)));
+        }
+      }
       if (spec.array) {
         const toml::array* arr = node ? node->as_array() : nullptr;
         if (arr) {
@@ -738,6 +780,9 @@ class Loader {
       case Type::RealList:
         expected = "a list of real numbers";
         break;
+      case Type::IntegerList:
+        expected = "a list of integers";
+        break;
       case Type::StringList:
         expected = "a list of strings";
         break;
@@ -788,6 +833,9 @@ class Loader {
         return std::nullopt;
       }
       i = static_cast<std::int64_t>(x);
+    } else if (key.type == Type::IntegerList) {  // an entry of a list
+      report(pos_of(n), fmt::format("{} must be an integer{}, got {}", name, unit_suffix(key), got(n)));
+      return std::nullopt;
     } else {
       type_error(key, name, n);
       return std::nullopt;
@@ -889,6 +937,18 @@ class Loader {
         for (std::size_t j = 0; j < a->size(); ++j) {
           auto x = real_of(key, fmt::format("{}[{}]", name, j), (*a)[j]);
           if (x) v.reals.push_back(*x);
+          ok = ok && x.has_value();
+        }
+        if (!ok) return std::nullopt;
+        return v;
+      }
+      case Type::IntegerList: {
+        auto a = n.as_array();
+        if (!a) return type_error(key, name, n);
+        bool ok = length_ok(key, name, a->size(), n, "entry", "entries");
+        for (std::size_t j = 0; j < a->size(); ++j) {
+          auto x = integer_of(key, fmt::format("{}[{}]", name, j), (*a)[j]);
+          if (x) v.integers.push_back(*x);
           ok = ok && x.has_value();
         }
         if (!ok) return std::nullopt;
@@ -1006,7 +1066,39 @@ class Loader {
                        t.str(condition_key), first_sentence(find_key(spec, key)->doc)));
   }
 
+  /// Checks between the keys of [coupled] (stability needs the model: report.cpp).
+  void check_coupled(const Scene& scene) {
+    const Table& c = scene.table("coupled");
+    const std::string& name = c.str("case");
+    if (name != "metamaterial") {
+      for (const char* key : {"dt_ref", "pulse_amplitude", "pulse_duration"})
+        if (c.given(key))
+          report(c.where(key),
+                 fmt::format("{} applies only to case = \"metamaterial\" (this scene has case = "
+                             "\"{}\"); remove it",
+                             key, name));
+    }
+    const auto& etas = c.integers("eta");
+    for (std::size_t j = 0; j < etas.size(); ++j) {
+      if (std::find(etas.begin(), etas.begin() + static_cast<std::ptrdiff_t>(j), etas[j]) !=
+          etas.begin() + static_cast<std::ptrdiff_t>(j)) {
+        report(c.where("eta"), fmt::format("eta: {} is listed twice", etas[j]));
+        break;
+      }
+    }
+    if (etas.empty()) return;
+    const double duration = c.real("duration") > 0 ? c.real("duration") : name == "chain6" ? 20.0 : 0.075;
+    const std::int64_t eta_max = *std::max_element(etas.begin(), etas.end());
+    const double dt_fem = static_cast<double>(eta_max) * c.real("dt_dem");
+    if (std::floor(duration / dt_fem + 1e-9) < 1)
+      report(c.given("duration") ? c.where("duration") : c.where("eta"),
+             fmt::format("duration = {:g} s holds no FEM step of eta = {} (eta*dt_dem = {:g} s): lengthen "
+                         "duration or lower eta",
+                         duration, eta_max, dt_fem));
+  }
+
   void check_between_keys(const Scene& scene) {
+    if (scene.coupled()) return check_coupled(scene);
     const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
     const auto materials = unique_names(scene, "material");
     const auto regions = unique_names(scene, "region");

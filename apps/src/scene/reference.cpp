@@ -25,7 +25,7 @@ std::string code_list(const std::vector<std::string>& items) {
 
 std::string allowed(const KeySpec& k) {
   std::vector<std::string> parts;
-  const bool list = k.type == Type::RealList || k.type == Type::StringList;
+  const bool list = k.type == Type::RealList || k.type == Type::IntegerList || k.type == Type::StringList;
   if (k.type == Type::Bool) parts.push_back("`true`, `false`");
   if (k.type == Type::Path) parts.push_back("an existing file");
   if (k.type == Type::Choice) parts.push_back(code_list(k.choices));
@@ -93,7 +93,13 @@ std::string reference_markdown() {
     const char* presence = t.array
                                ? (t.required ? "Required: one or more entries." : "Any number of entries.")
                                : (t.required ? "Required." : "Optional: every key has a default.");
-    out(fmt::format("{} {}\n\n", t.doc, presence));
+    std::vector<std::string> needed;  // an optional table with required keys, e.g. [coupled]
+    for (const KeySpec& k : t.keys)
+      if (k.required) needed.push_back(k.name);
+    const std::string optional_with_required =
+        fmt::format("Optional; when written, it needs {}.", code_list(needed));
+    out(fmt::format("{} {}\n\n", t.doc,
+                    !t.array && !t.required && !needed.empty() ? optional_with_required : presence));
     out("| key | type | unit | default | allowed | description |\n");
     out("|---|---|---|---|---|---|\n");
     for (const KeySpec& k : t.keys) {

@@ -29,10 +29,11 @@ enum class Type {
   Integer,
   Real,
   String,
-  Choice,      ///< a string from a fixed list
-  Path,        ///< a file path, relative to the scene file, that must exist
-  OutputPath,  ///< a path, relative to the scene file, that need not exist
-  RealList,    ///< array of reals (integers accepted); optional fixed length
+  Choice,       ///< a string from a fixed list
+  Path,         ///< a file path, relative to the scene file, that must exist
+  OutputPath,   ///< a path, relative to the scene file, that need not exist
+  RealList,     ///< array of reals (integers accepted); optional fixed length
+  IntegerList,  ///< array of integers (reals without a fractional part accepted), e.g. η values
   StringList,
   RealTable,  ///< array of arrays of reals, e.g. polygon vertices or force histories
 };
@@ -87,6 +88,7 @@ struct Value {
   double r = 0.0;
   std::string s;                           ///< String, Choice, Path (resolved), OutputPath (resolved)
   std::vector<double> reals;               ///< RealList
+  std::vector<std::int64_t> integers;      ///< IntegerList
   std::vector<std::string> strings;        ///< StringList
   std::vector<std::vector<double>> table;  ///< RealTable
   SourcePos pos;
@@ -114,6 +116,7 @@ class Table {
   const std::string& str(const std::string& key) const;
   std::filesystem::path path(const std::string& key) const { return str(key); }
   const std::vector<double>& reals(const std::string& key) const;
+  const std::vector<std::int64_t>& integers(const std::string& key) const;
   const std::vector<std::string>& strings(const std::string& key) const;
   const std::vector<std::vector<double>>& real_table(const std::string& key) const;
 
@@ -137,14 +140,24 @@ class Scene {
   std::filesystem::path file;  ///< the scene file as given
   std::filesystem::path dir;   ///< its directory: paths in the scene are relative to it
 
-  /// A plain table; always present (filled with defaults when not written).
+  /// A plain table; always present (filled with defaults when not written), except
+  /// [coupled], which is present only in a coupled-chain scene (see coupled()).
   const Table& table(const std::string& name) const;
   /// The entries of an array of tables (possibly empty).
   const std::vector<Table>& tables(const std::string& name) const;
 
+  /// A coupled-chain scene (SPEC C3): it has a [coupled] table, which describes the whole
+  /// model, and no particle or mesh tables ([scene], [[material]], [[region]], ...).
+  bool coupled() const { return !tables("coupled").empty(); }
+
   // Construction (used by the loader).
   std::map<std::string, std::vector<Table>> entries;
 };
+
+/// The tables a coupled-chain scene may hold besides [coupled], and of [output] the keys that
+/// apply to it (the sweep's files go to output.directory; output.render = false skips the plot).
+const std::vector<std::string>& coupled_scene_tables();
+const std::vector<std::string>& coupled_output_keys();
 
 /// Reads, validates and returns a scene. `overrides` are "key=value" strings from `--set`,
 /// with keys like "solver.dt" or "region.specimen.diameter" / "region[0].diameter"; values

@@ -79,7 +79,8 @@ class K {
 
 constexpr Type Bool = Type::Bool, Integer = Type::Integer, Real = Type::Real, String = Type::String,
                Choice = Type::Choice, Path = Type::Path, OutputPath = Type::OutputPath,
-               RealList = Type::RealList, StringList = Type::StringList, RealTable = Type::RealTable;
+               RealList = Type::RealList, IntegerList = Type::IntegerList, StringList = Type::StringList,
+               RealTable = Type::RealTable;
 
 std::vector<TableSpec> make_schema() {
   std::vector<TableSpec> s;
@@ -436,6 +437,12 @@ std::vector<TableSpec> make_schema() {
                .ge(0)
                .def("0")
                .doc("Number of threads; 0 uses all cores. Results are the same for any number."),
+           K("min_particles_per_thread", Integer)
+               .ge(1)
+               .def("4096")
+               .doc("A thread is used only for at least this many particles (a parallel step costs a few "
+                    "microseconds of synchronisation, more than it saves on small models when other work "
+                    "shares the cores). Results do not depend on it."),
        }});
 
   s.push_back(
@@ -493,6 +500,25 @@ std::vector<TableSpec> make_schema() {
                .doc("Render each frame to PNG as soon as it is written, so pictures of a long run can be "
                     "watched while it goes on (each picture then has its own colour range, except for "
                     "damage); otherwise all frames are rendered at the end with one colour range."),
+           K("render_contacts", Bool)
+               .def("false")
+               .doc("Also draw the contacts of the bond frames (output.contacts) in the pictures, as thin "
+                    "green lines."),
+           K("view_direction", RealList)
+               .length(3, 3)
+               .def("[-1.0, -0.6, -0.45]")
+               .doc("3D pictures: direction from the camera towards the model (need not be a unit vector; "
+                    "not zero). 2D pictures always look down -z."),
+           K("view_up", RealList)
+               .length(3, 3)
+               .def("[0.0, 0.0, 1.0]")
+               .doc("3D pictures: the direction that points up in the picture (not zero, not parallel to "
+                    "view_direction)."),
+           K("clip_plane", RealList)
+               .length(6, 6)
+               .doc("3D pictures: a clip plane [ox, oy, oz, nx, ny, nz], a point (m) and a normal (not "
+                    "zero); particles, cracks and FEM cells on the normal's side are left out, so the "
+                    "inside shows. Not set: nothing is clipped."),
            K("particles", Choice)
                .choices({"all", "surface", "none"})
                .def(R"("all")")
@@ -520,6 +546,11 @@ std::vector<TableSpec> make_schema() {
                .def(R"("broken")")
                .doc("Which bonds the bond frames hold: broken (cracks: tension, shear, closed again), all "
                     "(also intact bonds, with their forces), none."),
+           K("contacts", Bool)
+               .def("true")
+               .doc("Also write the contacts between particles that were never bonded and touch now to the "
+                    "bond frames, as lines with state 4, Fn and Fs; only those whose two particles pass "
+                    "output.groups and the slice. Pictures draw them only with render_contacts."),
        }});
 
   s.push_back(
@@ -547,6 +578,75 @@ std::vector<TableSpec> make_schema() {
                .def("true")
                .doc("Record the number of bonds broken in tension and in shear."),
        }});
+
+  // A coupled-chain scene: the loader allows beside it only the tables and [output] keys of
+  // coupled_scene_tables() and coupled_output_keys() (below); checks between these keys
+  // (case-only keys, duration against η·dt_DEM) are in loader.cpp.
+  s.push_back(
+      {"coupled",
+       false,
+       false,
+       "A coupled FEM–DEM chain of SPEC C3, run as a sweep over the time-step ratio η against an "
+       "exact or reference answer (error and run time per η). A scene with [coupled] describes the "
+       "whole model: besides it, it may hold only [output] with directory and render.",
+       {
+           K("case", Choice)
+               .required()
+               .choices({"chain6", "metamaterial"})
+               .doc("Which chain: chain6, the 6-DOF verification chain (k = 1 N/m, m = 1 kg, P·sin(πt/2) "
+                    "on m2; error of m3 against the exact modal solution); metamaterial, 800 outer masses "
+                    "and 200 resonators (error of DEM mass 250 against a monolithic implicit Newmark run "
+                    "at dt_ref). See SPEC C3."),
+           K("title", String).def(R"("")").doc("A name for the run, shown in the report."),
+           K("dt_dem", Real, "s")
+               .required()
+               .gt(0)
+               .doc("DEM time step dt_DEM (velocity Verlet); the FEM step is η·dt_DEM. An unstable "
+                    "dt_DEM is refused by `strata check` and `strata run` (the metamaterial chain needs "
+                    "dt_DEM <= 7.68e-5 s; the paper's 1e-4 s is unstable)."),
+           K("eta", IntegerList)
+               .ge(1)
+               .length(1, 0)
+               .def("[1, 2, 3, 4, 5, 10, 20]")
+               .doc("Time-step ratios η = dt_FEM/dt_DEM of the sweep, one run per value and mode "
+                    "(the paper's list is the default)."),
+           K("modes", Choice)
+               .choices({"serial", "parallel", "both"})
+               .def(R"("both")")
+               .doc("serial: both partitions on one thread; parallel: each on its own thread, meeting "
+                    "once per system step; both: every η in both modes (results are the same bit for bit, "
+                    "only the run time differs)."),
+           K("duration", Real, "s")
+               .ge(0)
+               .def("0.0")
+               .doc("Simulated time; 0 uses the case's (20 s for chain6, 0.075 s for metamaterial). It "
+                    "must hold at least one FEM step of the largest η."),
+           K("fem_scheme", Choice)
+               .choices({"auto", "central-difference", "explicit-newmark", "implicit-newmark"})
+               .def(R"("auto")")
+               .doc("Integrator of the FEM partition: explicit-newmark is the paper's predictor-corrector "
+                    "Newmark with a lumped mass (explicit: stable only for ω·dt <= 2); implicit-newmark "
+                    "(β = 1/4, γ = 1/2, factorised once) is unconditionally stable; auto is "
+                    "explicit-newmark for chain6 and implicit-newmark for metamaterial."),
+           K("dt_ref", Real, "s")
+               .gt(0)
+               .def("1e-6")
+               .doc("Step of the monolithic implicit Newmark reference run (case = \"metamaterial\" "
+                    "only)."),
+           K("pulse_amplitude", Real, "N")
+               .def("100.0")
+               .doc("Peak of the half-sine force pulse on outer mass 1, the free end (case = "
+                    "\"metamaterial\" only; the paper's load history is not given, SPEC C3)."),
+           K("pulse_duration", Real, "s")
+               .gt(0)
+               .def("1e-3")
+               .doc("Length of the half-sine force pulse (case = \"metamaterial\" only)."),
+           K("repeats", Integer).ge(1).def("3").doc("Runs per point; the fastest run time is reported."),
+           K("threads", Integer)
+               .ge(0)
+               .def("0")
+               .doc("Threads for parallel loops; 0 uses all cores. `strata run --threads` overrides it."),
+       }});
   return s;
 }
 
@@ -555,6 +655,16 @@ std::vector<TableSpec> make_schema() {
 const std::vector<TableSpec>& schema() {
   static const std::vector<TableSpec> s = make_schema();
   return s;
+}
+
+const std::vector<std::string>& coupled_scene_tables() {
+  static const std::vector<std::string> t{"coupled", "output"};
+  return t;
+}
+
+const std::vector<std::string>& coupled_output_keys() {
+  static const std::vector<std::string> k{"directory", "render"};
+  return k;
 }
 
 std::string range_text(const KeySpec& key) {
@@ -592,6 +702,8 @@ std::string type_name(Type type) {
       return "output path";
     case Type::RealList:
       return "list of reals";
+    case Type::IntegerList:
+      return "list of integers";
     case Type::StringList:
       return "list of strings";
     case Type::RealTable:

@@ -1,0 +1,164 @@
+// Coupled-chain scenes ([coupled], SPEC C3): they load, map onto the sweep's options, and
+// refuse mixed particle tables, misspelt keys and bad η values with file:line:col messages.
+#include <gtest/gtest.h>
+
+#include <strata/core/error.hpp>
+
+#include <string>
+#include <vector>
+
+#include "report.hpp"
+#include "scene/scene.hpp"
+
+using strata::scene::Scene;
+
+namespace {
+
+// The line numbers matter: the tests below point at them.
+const std::string kCoupled = R"toml([coupled]
+case = "metamaterial"
+dt_dem = 5e-5
+eta = [1, 2, 20]
+modes = "serial"
+
+[output]
+directory = "res"
+render = false
+)toml";
+
+std::string edit(const std::string& from, const std::string& to, std::string text = kCoupled) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << "kCoupled has no '" << from << "'";
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    strata::scene::parse(text, "scene.toml", sets);
+  } catch (const strata::Error& e) {
+    EXPECT_EQ(e.kind(), strata::ErrorKind::Input) << e.what();
+    return e.what();
+  }
+  return "no error";
+}
+
+const std::string kCoupledKeys =
+    "case, title, dt_dem, eta, modes, duration, fem_scheme, dt_ref, pulse_amplitude, pulse_duration, "
+    "repeats, threads";
+
+}  // namespace
+
+TEST(SceneCoupled, LoadsWithDefaultsAndMapsOntoTheSweepOptions) {
+  const Scene s = strata::scene::parse(kCoupled, "dir/scene.toml");
+  ASSERT_TRUE(s.coupled());
+  const auto& c = s.table("coupled");
+  EXPECT_EQ(c.str("case"), "metamaterial");
+  EXPECT_EQ(c.integers("eta"), (std::vector<std::int64_t>{1, 2, 20}));
+  EXPECT_FALSE(c.given("dt_ref"));
+  EXPECT_DOUBLE_EQ(c.real("dt_ref"), 1e-6);
+  EXPECT_EQ(c.str("fem_scheme"), "auto");
+
+  const auto o = strata::app::coupled_report_options(s, /*force=*/false);
+  EXPECT_EQ(o.case_name, "metamaterial");
+  EXPECT_EQ(o.etas, (std::vector<int>{1, 2, 20}));
+  EXPECT_EQ(o.modes, "serial");
+  EXPECT_DOUBLE_EQ(o.dt_dem, 5e-5);
+  EXPECT_DOUBLE_EQ(o.duration, 0.0);  // the case's default, filled in by the report
+  EXPECT_DOUBLE_EQ(o.pulse_amplitude, 100.0);
+  EXPECT_DOUBLE_EQ(o.pulse_duration, 1e-3);
+  EXPECT_EQ(o.repeats, 3);
+  EXPECT_TRUE(o.no_plot);
+  EXPECT_TRUE(o.refuse_unstable_eta);
+  EXPECT_EQ(o.output.filename(), "res");
+  EXPECT_EQ(o.output.parent_path().filename(), "dir");  // relative to the scene file
+
+  // The default η list is the paper's.
+  const Scene d = strata::scene::parse(edit("eta = [1, 2, 20]\n", ""), "scene.toml");
+  EXPECT_EQ(d.table("coupled").integers("eta"), (std::vector<std::int64_t>{1, 2, 3, 4, 5, 10, 20}));
+  // A particle scene has no [coupled].
+  EXPECT_FALSE(
+      strata::scene::parse("[scene]\ndimension = 2\n[[material]]\nname = \"r\"\ndensity = 1\nkn = 1\n"
+                           "ks = 1\n[[region]]\nname = \"b\"\nmaterial = \"r\"\ndiameter = 1\nsize = [4, 4]\n"
+                           "[solver]\nsteps = 1\n",
+                           "scene.toml")
+          .coupled());
+}
+
+TEST(SceneCoupled, OverridesAreValidatedLikeTheFile) {
+  const Scene s = strata::scene::parse(kCoupled, "scene.toml", {"coupled.dt_dem=1e-4", "coupled.eta=[1, 5]"});
+  EXPECT_DOUBLE_EQ(s.table("coupled").real("dt_dem"), 1e-4);
+  EXPECT_EQ(s.table("coupled").integers("eta"), (std::vector<std::int64_t>{1, 5}));
+  EXPECT_EQ(error_of(kCoupled, {"coupled.eta=[0]"}), "--set coupled.eta=[0]: eta[0] = 0 must be >= 1");
+}
+
+TEST(SceneCoupled, ParticleTablesCannotBeMixedIn) {
+  EXPECT_EQ(error_of(kCoupled + "\n[[material]]\nname = \"rock\"\ndensity = 2650\nkn = 1e9\nks = 1e9\n"),
+            "scene.toml:11:1: [[material]] cannot be mixed with [coupled] (scene.toml:1:1): a coupled-chain "
+            "scene describes the whole model in [coupled] and may hold besides only [output] (keys "
+            "directory, render); remove [[material]] or [coupled]");
+  EXPECT_EQ(error_of("[scene]\ndimension = 2\n\n" + kCoupled),
+            "scene.toml:1:1: [scene] cannot be mixed with [coupled] (scene.toml:4:1): a coupled-chain scene "
+            "describes the whole model in [coupled] and may hold besides only [output] (keys directory, "
+            "render); remove [scene] or [coupled]");
+  EXPECT_EQ(error_of(edit("render = false", "render = false\nframes = 10")),
+            "scene.toml:10:1: output.frames does not apply to a coupled-chain scene ([coupled] at "
+            "scene.toml:1:1): its [output] takes only directory, render");
+  // A particle scene given a [coupled] table by --set is a mixed scene too.
+  const std::string particles = "[scene]\ndimension = 2\n";
+  EXPECT_EQ(error_of(particles, {"coupled.case=chain6", "coupled.dt_dem=1e-4"}),
+            "scene.toml:1:1: [scene] cannot be mixed with [coupled] (--set coupled.case=chain6): a "
+            "coupled-chain scene describes the whole model in [coupled] and may hold besides only [output] "
+            "(keys directory, render); remove [scene] or [coupled]");
+}
+
+TEST(SceneCoupled, MisspeltAndMissingKeys) {
+  EXPECT_EQ(error_of(edit("dt_dem = 5e-5", "dt_demm = 5e-5")),
+            "scene.toml:3:1: unknown key 'dt_demm' in [coupled]; did you mean 'dt_dem'? (allowed: " +
+                kCoupledKeys + ")");
+  EXPECT_EQ(error_of(edit("case = \"metamaterial\"", "case = \"metamaterial_chain\"")),
+            "scene.toml:2:8: case = \"metamaterial_chain\" must be one of chain6, metamaterial; did you mean "
+            "'metamaterial'?");
+  EXPECT_EQ(error_of(edit("dt_dem = 5e-5\n", "")),
+            "scene.toml:1:1: [coupled] is missing required key 'dt_dem' (DEM time step dt_DEM (velocity "
+            "Verlet); the FEM step is η·dt_DEM)");
+  EXPECT_EQ(error_of(edit("dt_dem = 5e-5", "dt_dem = -5e-5")),
+            "scene.toml:3:10: dt_dem = -5e-5 must be > 0 (s)");
+  EXPECT_EQ(
+      error_of(edit("modes = \"serial\"", "modes = \"serail\"")),
+      "scene.toml:5:9: modes = \"serail\" must be one of serial, parallel, both; did you mean 'serial'?");
+}
+
+TEST(SceneCoupled, EtaValuesAreIntegersOfAtLeastOne) {
+  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, 2.5, 20]")),
+            "scene.toml:4:11: eta[1] must be an integer, got a real number 2.5");
+  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, 0, 20]")),
+            "scene.toml:4:11: eta[1] = 0 must be >= 1");
+  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, \"two\"]")),
+            "scene.toml:4:11: eta[1] must be an integer, got a string \"two\"");
+  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = 3")),
+            "scene.toml:4:7: eta must be a list of integers, got an integer 3");
+  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = []")),
+            "scene.toml:4:7: eta must have at least 1 entry, got 0");
+  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, 2, 1]")), "scene.toml:4:7: eta: 1 is listed twice");
+  // 2.0 is a fine way to write 2.
+  EXPECT_EQ(strata::scene::parse(edit("eta = [1, 2, 20]", "eta = [1, 2.0]"), "scene.toml")
+                .table("coupled")
+                .integers("eta"),
+            (std::vector<std::int64_t>{1, 2}));
+}
+
+TEST(SceneCoupled, ChecksBetweenKeys) {
+  EXPECT_EQ(error_of(edit("case = \"metamaterial\"", "case = \"chain6\"\npulse_amplitude = 5")),
+            "scene.toml:3:19: pulse_amplitude applies only to case = \"metamaterial\" (this scene has case = "
+            "\"chain6\"); remove it");
+  EXPECT_EQ(error_of(edit("modes = \"serial\"", "modes = \"serial\"\nduration = 5e-4")),
+            "scene.toml:6:12: duration = 0.0005 s holds no FEM step of eta = 20 (eta*dt_dem = 0.001 s): "
+            "lengthen duration or lower eta");
+}
+
+TEST(SceneCoupled, MissingTablesOfAParticleSceneStillReported) {
+  // Without [coupled], a scene still needs its particle tables.
+  EXPECT_NE(error_of("[output]\ndirectory = \"x\"\n").find("missing required table [scene]"),
+            std::string::npos);
+}
