@@ -362,7 +362,7 @@ class Model final : public ModelBase {
     std::vector<std::uint32_t> inv;
     std::vector<std::array<std::uint32_t, 2>> pairs;
     std::vector<std::uint8_t> pst;
-    std::vector<double> pus;
+    std::vector<double> pus, pr0, pkf;
     if (bonds.size() > 0) {
       inv.assign(N, 0);
       for (std::size_t i = 0; i < N; ++i) inv[perm[i]] = static_cast<std::uint32_t>(i);
@@ -371,6 +371,10 @@ class Model final : public ModelBase {
           pairs.push_back({inv[p], inv[bonds.j[k]]});
           pst.push_back(bonds.st[k]);
           for (int s = 0; s < kNs; ++s) pus.push_back(bonds.us[k * kNs + s]);
+          if (!bonds.r0.empty()) {
+            pr0.push_back(bonds.r0[k]);
+            pkf.push_back(bonds.kf[k]);
+          }
         }
     }
     for (int a = 0; a < D; ++a) {
@@ -396,12 +400,18 @@ class Model final : public ModelBase {
       nb.j.resize(pairs.size());
       nb.st.resize(pairs.size());
       nb.us.resize(pairs.size() * kNs);
+      nb.r0.resize(pr0.size());
+      nb.kf.resize(pkf.size());
       for (std::size_t k = 0; k < order.size(); ++k) {
         const auto o = order[k];
         nb.off[pairs[o][0] + 1]++;
         nb.j[k] = pairs[o][1];
         nb.st[k] = pst[o];
         for (int s = 0; s < kNs; ++s) nb.us[k * kNs + s] = pus[o * kNs + s];
+        if (!pr0.empty()) {
+          nb.r0[k] = pr0[o];
+          nb.kf[k] = pkf[o];
+        }
       }
       for (std::size_t i = 0; i < N; ++i) nb.off[i + 1] += nb.off[i];
       bonds = std::move(nb);
@@ -539,6 +549,57 @@ class Model final : public ModelBase {
     bonds = std::move(L);
   }
 
+  void set_bonds(const std::vector<std::uint32_t>& bi, const std::vector<std::uint32_t>& bj,
+                 const std::vector<double>& factor) override {
+    STRATA_CHECK(!initialised, Input, "set_bonds: call it before initialise()");
+    STRATA_CHECK(bi.size() == bj.size() && (factor.empty() || factor.size() == bi.size()), Input,
+                 "set_bonds: {} first ends, {} second ends and {} factors (need equal counts; factors may be "
+                 "omitted)",
+                 bi.size(), bj.size(), factor.size());
+    STRATA_CHECK(bonds.size() == 0, Input,
+                 "set_bonds: the model has bonds already (call it once, instead of "
+                 "bond_touching_pairs)");
+    if (n() == 0) return;
+    const std::size_t N = n();
+    if (!sorted) sort_particles();
+    const auto inv = index_of_id();
+    // bonds by (owner, partner) in internal indices, checked
+    std::vector<std::array<std::uint32_t, 2>> pairs(bi.size());
+    for (std::size_t b = 0; b < bi.size(); ++b) {
+      STRATA_CHECK(bi[b] < N && bj[b] < N && bi[b] != bj[b], Input,
+                   "set_bonds: bond {} joins particles {} and {} (ids must differ and be < {})", b, bi[b],
+                   bj[b], N);
+      const double f = factor.empty() ? 1.0 : factor[b];
+      STRATA_CHECK(f > 0 && f <= 1, Input, "set_bonds: stiffness factor {} of bond {} must be in (0, 1]", f,
+                   b);
+      std::uint32_t p = inv[bi[b]], q = inv[bj[b]];
+      if (p > q) std::swap(p, q);
+      pairs[b] = {p, q};
+    }
+    std::vector<std::uint32_t> order(pairs.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(),
+              [&](std::uint32_t a, std::uint32_t b) { return pairs[a] < pairs[b]; });
+    PairList L;
+    L.off.assign(N + 1, 0);
+    L.j.resize(pairs.size());
+    L.r0.resize(pairs.size());
+    L.kf.resize(pairs.size());
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      const auto o = order[k];
+      STRATA_CHECK(k == 0 || pairs[o] != pairs[order[k - 1]], Input,
+                   "set_bonds: particles {} and {} are bonded twice", id[pairs[o][0]], id[pairs[o][1]]);
+      L.off[pairs[o][0] + 1]++;
+      L.j[k] = pairs[o][1];
+      L.r0[k] = std::sqrt(dist2(pairs[o][0], pairs[o][1]));  // rest length: the initial distance
+      L.kf[k] = factor.empty() ? 1.0 : factor[o];
+    }
+    for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
+    L.st.assign(L.size(), pair_state::kIntact);
+    L.us.assign(L.size() * kNs, 0.0);
+    bonds = std::move(L);
+  }
+
   bool bonded(std::size_t p, std::uint32_t q) const {
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
       if (bonds.j[k] == q) return true;
@@ -634,13 +695,30 @@ class Model final : public ModelBase {
     return laws[static_cast<std::size_t>(mat[p]) * nmat + mat[q]];
   }
 
+  /// Length at which pair k of L (between p and j) carries no normal force: ri + rj (the
+  /// disks/spheres touch), or an intact eccentric-lattice bond's initial length.
+  double rest_of(const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
+    if (!L.r0.empty() && (L.st[k] & pair_state::kKindMask) == pair_state::kIntact) return L.r0[k];
+    return rad[p] + rad[j];
+  }
+  /// The law of pair k of L: the materials' law, with Kn and Ks scaled by an intact
+  /// eccentric-lattice bond's stiffness factor (SPEC C4: k -> γ·k).
+  SolidLatticeLaw law_for(const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
+    SolidLatticeLaw l = law_of(p, j);
+    if (!L.kf.empty() && (L.st[k] & pair_state::kKindMask) == pair_state::kIntact) {
+      l.kn *= L.kf[k];
+      l.ks *= L.kf[k];
+    }
+    return l;
+  }
+
   /// One pair: geometry (normal, tangential increment, rotation of the stored shear
   /// displacement into the current tangent plane), then the law. F receives the force on
   /// the owner p; returns the pair's energy when kEnergy. Commit=false works on copies.
   template <bool kEnergy>
-  static inline double pair_force(const double* const* X, const double* const* V, const double* R,
-                                  std::size_t p, std::uint32_t j, std::uint8_t& st, double* us,
-                                  const SolidLatticeLaw& law, double dt, double* F, int& broke) {
+  static inline double pair_force(const double* const* X, const double* const* V, double rest, std::size_t p,
+                                  std::uint32_t j, std::uint8_t& st, double* us, const SolidLatticeLaw& law,
+                                  double dt, double* F, int& broke) {
     double n[D], len2 = 0;
     for (int a = 0; a < D; ++a) {
       n[a] = X[a][j] - X[a][p];
@@ -649,7 +727,7 @@ class Model final : public ModelBase {
     const double len = std::sqrt(len2);
     const double inv = 1.0 / len;
     for (int a = 0; a < D; ++a) n[a] *= inv;
-    const double un = R[p] + R[j] - len;
+    const double un = rest - len;
     double dus[kNs];
     if constexpr (D == 2) {
       // tangent t = (-n_y, n_x); the scalar Us rotates with the normal
@@ -765,8 +843,9 @@ class Model final : public ModelBase {
         const std::uint32_t p = own[s][0], k = own[s][1], j = L.j[k];
         double F[D];
         int broke = 0;
-        const double e = pair_force<kEnergy>(X, V, rad.data(), p, j, L.st[k], &L.us[std::size_t{k} * kNs],
-                                             law_of(p, j), c.dt, F, broke);
+        const double e =
+            pair_force<kEnergy>(X, V, rest_of(L, k, p, j), p, j, L.st[k], &L.us[std::size_t{k} * kNs],
+                                law_for(L, k, p, j), c.dt, F, broke);
         if (broke) [[unlikely]]
           record(t, c.step, p, j, broke);
         double* out = &slots[(base + s) * (D + 1)];
@@ -814,7 +893,7 @@ class Model final : public ModelBase {
   // of the endpoints' positions and velocities); the others (broken bonds, bonds breaking
   // now, pairs of two materials) are redone by the scalar law. Both evaluate the same
   // expressions in the same order, so the results do not depend on which path a bond takes.
-  template <bool kEnergy>
+  template <bool kEnergy, bool kPerBond>
   void bond_block(int t, const Ctx& c, std::ptrdiff_t p0, std::ptrdiff_t pe, std::ptrdiff_t e) {
     const std::uint32_t k0 = bonds.off[p0], k1 = bonds.off[pe];
     const std::size_t m = k1 - k0;
@@ -836,10 +915,13 @@ class Model final : public ModelBase {
     const std::uint32_t* __restrict bj = bonds.j.data() + k0;
     const std::uint8_t* __restrict bst = bonds.st.data() + k0;
     double* __restrict bus = bonds.us.data() + std::size_t{k0} * kNs;
+    // eccentric lattices: per-bond rest length and stiffness factor
+    const double* __restrict br0 = kPerBond ? bonds.r0.data() + k0 : nullptr;
+    const double* __restrict bkf = kPerBond ? bonds.kf.data() + k0 : nullptr;
     double* __restrict EN = S.en.data();
     std::uint8_t* __restrict slow = S.slow.data();
     const SolidLatticeLaw& L = laws[0];
-    const double dt = c.dt, kn = L.kn, ks = L.ks, ks2 = ks * ks, mu = L.mu, fn_max = L.fn_max, fs0 = L.fs0;
+    const double dt = c.dt, kn0 = L.kn, ks0 = L.ks, mu = L.mu, fn_max = L.fn_max, fs0 = L.fs0;
     const double mu_b = L.friction_strengthens_bonds ? mu : 0.0;  // intact-bond friction term
     const std::uint32_t ee = static_cast<std::uint32_t>(e);
     if (nmat == 1) {
@@ -862,7 +944,15 @@ class Model final : public ModelBase {
         n0 *= inv;
         n1 *= inv;
         if constexpr (D == 3) n2 *= inv;
-        const double un = R[p] + R[j] - len;
+        double un, kn = kn0, ks = ks0;
+        if constexpr (kPerBond) {
+          un = br0[q] - len;
+          kn = kn0 * bkf[q];
+          ks = ks0 * bkf[q];
+        } else {
+          un = R[p] + R[j] - len;
+        }
+        const double ks2 = ks * ks;
         const double fn = kn * un;
         const double lim = fs0 + mu_b * std::max(fn, 0.0);  // = fs0 exactly when mu_b = 0
         bool ok = (bst[q] == pair_state::kIntact) & (j < ee) & (fn >= -fn_max);
@@ -908,13 +998,21 @@ class Model final : public ModelBase {
       VC[a] = V[a];
     }
     for (std::size_t q = 0; q < m; ++q) {
+      if (q % 8 == 0 && q + 8 <= m) {  // skip 8 fast bonds at a time
+        std::uint64_t w;
+        std::memcpy(&w, slow + q, 8);
+        if (w == 0) {
+          q += 7;
+          continue;
+        }
+      }
       if (!slow[q] || bj[q] >= ee) [[likely]]
         continue;
       const std::uint32_t p = own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
       double F[D];
       int broke = 0;
-      EN[q] = pair_force<kEnergy>(XC, VC, R, p, j, bonds.st[k], &bonds.us[std::size_t{k} * kNs], law_of(p, j),
-                                  dt, F, broke);
+      EN[q] = pair_force<kEnergy>(XC, VC, rest_of(bonds, k, p, j), p, j, bonds.st[k],
+                                  &bonds.us[std::size_t{k} * kNs], law_for(bonds, k, p, j), dt, F, broke);
       for (int a = 0; a < D; ++a) FB[a][q] = F[a];
       if (broke) [[unlikely]]
         record(t, c.step, p, j, broke);
@@ -969,7 +1067,10 @@ class Model final : public ModelBase {
     for (std::ptrdiff_t blk = b / kBlock; blk * kBlock < e; ++blk) {
       const std::ptrdiff_t pe = std::min(e, (blk + 1) * kBlock);
       double work = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0;
-      bond_block<kEnergy>(t, c, blk * kBlock, pe, e);
+      if (bonds.r0.empty())
+        bond_block<kEnergy, false>(t, c, blk * kBlock, pe, e);
+      else
+        bond_block<kEnergy, true>(t, c, blk * kBlock, pe, e);
       const Scratch& S = scratch[t];
       const std::uint32_t kb0 = boff[blk * kBlock];
       for (std::ptrdiff_t p = blk * kBlock; p < pe; ++p) {
@@ -1005,8 +1106,8 @@ class Model final : public ModelBase {
           } else {
             int broke = 0;
             const SolidLatticeLaw& law = one_law ? law0 : law_of(p, j);
-            const double en =
-                pair_force<kEnergy>(XC, VC, R, p, j, cst[k], &cus[std::size_t{k} * kNs], law, dt, Fb, broke);
+            const double en = pair_force<kEnergy>(XC, VC, R[p] + R[j], p, j, cst[k],
+                                                  &cus[std::size_t{k} * kNs], law, dt, Fb, broke);
             if constexpr (kEnergy) eb += en;
             for (int a = 0; a < D; ++a) FA[a][j] -= Fb[a];
           }
@@ -1256,16 +1357,16 @@ class Model final : public ModelBase {
         const std::uint32_t j = bonds.j[k];
         const bool on = (bonds.st[k] & pair_state::kKindMask) == pair_state::kIntact ||
                         dist2(p, j) < (rad[p] + rad[j]) * (rad[p] + rad[j]);
-        if (on) fn(p, j);
+        if (on) fn(p, j, law_for(bonds, k, p, j));
       }
       for (std::uint32_t k = contacts.off[p]; k < contacts.off[p + 1]; ++k) {
         const std::uint32_t j = contacts.j[k];
-        if (dist2(p, j) < (rad[p] + rad[j]) * (rad[p] + rad[j])) fn(p, j);
+        if (dist2(p, j) < (rad[p] + rad[j]) * (rad[p] + rad[j])) fn(p, j, law_of(p, j));
       }
     }
   }
 
-  void pair_matrix(std::size_t p, std::uint32_t j, double K[D][D]) const {
+  void pair_matrix(std::size_t p, std::uint32_t j, const SolidLatticeLaw& law, double K[D][D]) const {
     double nv[D], l2 = 0;
     for (int a = 0; a < D; ++a) {
       nv[a] = x[a][j] - x[a][p];
@@ -1273,7 +1374,6 @@ class Model final : public ModelBase {
     }
     const double l = std::sqrt(l2);
     for (int a = 0; a < D; ++a) nv[a] /= l;
-    const SolidLatticeLaw& law = law_of(p, j);
     for (int a = 0; a < D; ++a)
       for (int b2 = 0; b2 < D; ++b2) K[a][b2] = (law.kn - law.ks) * nv[a] * nv[b2] + (a == b2 ? law.ks : 0.0);
   }
@@ -1286,9 +1386,9 @@ class Model final : public ModelBase {
     constexpr int kSym = D * (D + 1) / 2;
     std::vector<float> S(N * kSym, 0.0f);
     std::size_t npairs = 0;
-    for_each_stiff_pair([&](std::size_t p, std::uint32_t j) {
+    for_each_stiff_pair([&](std::size_t p, std::uint32_t j, const SolidLatticeLaw& law) {
       double K[D][D];
-      pair_matrix(p, j, K);
+      pair_matrix(p, j, law, K);
       int e = 0;
       for (int a = 0; a < D; ++a)
         for (int b2 = a; b2 < D; ++b2, ++e) {
@@ -1352,9 +1452,9 @@ class Model final : public ModelBase {
     for (int it = 0; it < kmax; ++it) {
       if (full) basis.insert(basis.end(), q.begin(), q.end());
       std::fill(w.begin(), w.end(), Real(0));
-      for_each_stiff_pair([&](std::size_t p, std::uint32_t j) {
+      for_each_stiff_pair([&](std::size_t p, std::uint32_t j, const SolidLatticeLaw& law) {
         double K[D][D];
-        pair_matrix(p, j, K);
+        pair_matrix(p, j, law, K);
         const double sp = std::sqrt(im[p]), sj = std::sqrt(im[j]);
         double du[D];
         for (int a = 0; a < D; ++a) du[a] = q[p * D + a] * sp - q[std::size_t{j} * D + a] * sj;
@@ -1426,7 +1526,8 @@ class Model final : public ModelBase {
       for (int s = 0; s < kNs; ++s) us[s] = L.us[std::size_t{k} * kNs + s];
       double F[D];
       int broke = 0;
-      const double e = pair_force<true>(X, V, rad.data(), p, j, st, us, law_of(p, j), settings.dt, F, broke);
+      const double e = pair_force<true>(X, V, rest_of(L, k, p, j), p, j, st, us, law_for(L, k, p, j),
+                                        settings.dt, F, broke);
       fn(j, F, e, st, us, &L == &contacts);
     };
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) one(bonds, k);
@@ -1601,7 +1702,7 @@ class Model final : public ModelBase {
         double F[D];
         int broke = 0;
         // forces at the current state without the pending increment (dt = 0)
-        pair_force<false>(X, V, rad.data(), p, j, st, us, law_of(p, j), 0.0, F, broke);
+        pair_force<false>(X, V, rest_of(L, k, p, j), p, j, st, us, law_for(L, k, p, j), 0.0, F, broke);
         const std::uint8_t s0 = L.st[k];
         double fn = 0, fs2 = 0;
         double nv[D], l2 = 0;

@@ -23,9 +23,13 @@ struct PairList {
   std::vector<std::uint32_t> j;
   std::vector<std::uint8_t> st;
   std::vector<double> us;  // NS shear components per pair
+  // Bonds of eccentric lattices only (empty otherwise): rest length (the initial centre
+  // distance) and stiffness factor of each bond; both apply while the bond is intact.
+  std::vector<double> r0, kf;
   std::size_t size() const { return j.size(); }
   std::size_t bytes() const {
-    return off.capacity() * 4 + j.capacity() * 4 + st.capacity() + us.capacity() * 8;
+    return off.capacity() * 4 + j.capacity() * 4 + st.capacity() +
+           (us.capacity() + r0.capacity() + kf.capacity()) * 8;
   }
 };
 
@@ -119,6 +123,8 @@ class ModelBase {
                                    double mass) = 0;
   virtual std::size_t particle_count() const = 0;
   virtual void bond_touching_pairs(double tol) = 0;
+  virtual void set_bonds(const std::vector<std::uint32_t>& i, const std::vector<std::uint32_t>& j,
+                         const std::vector<double>& factor) = 0;
   virtual void set_velocity(std::size_t id, std::array<double, 3> v) = 0;
   /// Driven particles (coupling): displacement and velocity of one particle by id.
   virtual void set_kinematics(std::size_t id, const std::array<double, 3>& u,

@@ -152,6 +152,8 @@ void pair_list(Io& io, const std::string& name, PairList& L) {
   io.vec(name + "/partner", L.j);
   io.vec(name + "/state", L.st);
   io.vec(name + "/shear_displacement", L.us);
+  io.vec(name + "/rest_length", L.r0);  // eccentric lattices only (else empty)
+  io.vec(name + "/stiffness_factor", L.kf);
 }
 
 /// The whole state, in one place for both directions.
@@ -312,6 +314,10 @@ void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
     same(L->off.size(), "pair offsets", n + 1);
     same(L->st.size(), "pair states", L->j.size());
     same(L->us.size(), "pair shear displacements", L->j.size() * kns);
+    if (!L->r0.empty() || !L->kf.empty()) {
+      same(L->r0.size(), "bond rest lengths", L->j.size());
+      same(L->kf.size(), "bond stiffness factors", L->j.size());
+    }
     STRATA_CHECK(L->off.front() == 0 && L->off.back() == L->j.size(), IO, "damaged state: pair offsets");
     for (std::size_t p = 0; p < n; ++p) {
       STRATA_CHECK(L->off[p] <= L->off[p + 1], IO, "damaged state: pair offsets are not ascending");

@@ -115,6 +115,14 @@ class Simulation {
   std::size_t particle_count() const;
   /// Bonds every pair with |xi - xj| <= (ri + rj)(1 + tolerance). O(N) with a cell grid.
   void bond_touching_pairs(double tolerance = 1e-6);
+  /// Bonds given as data instead (eccentric lattices, SPEC C4): bond b joins particles
+  /// first[b] and second[b] (ids); its rest length is the centres' distance now (so the
+  /// model starts unloaded whatever the offsets), and while intact its Kn and Ks are scaled
+  /// by factor[b] in (0, 1] (the γ of weakened bonds; empty: all 1). A broken bond's contact
+  /// uses ri + rj and the material's stiffness, like any contact. Call it once, before
+  /// initialise(), instead of bond_touching_pairs(). Costs 16 bytes per bond.
+  void set_bonds(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& second,
+                 const std::vector<double>& factor = {});
   /// Sets the velocity of particle `id` (initial conditions).
   void set_velocity(std::size_t id, std::array<double, 3> v);
 

@@ -1,0 +1,99 @@
+// Bonds given as data (eccentric lattices, SPEC C4): per-bond rest length and stiffness
+// factor.
+#include "dem_test_util.hpp"
+
+#include <strata/preprocess/ecc.hpp>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace strata;
+using namespace strata::dem;
+using namespace strata::dem::test;
+
+namespace {
+preprocess::Lattice block(int dim) {
+  return dim == 2
+             ? preprocess::hex2d_rows(16, 16, kC1d)
+             : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {6e-3, 6e-3, 6e-3}, kC1d);
+}
+
+void set_bonds(Simulation& sim, const preprocess::BondList& b) {
+  std::vector<double> f(b.stiffness_factor.begin(), b.stiffness_factor.end());
+  sim.set_bonds(b.i, b.j, f);
+}
+}  // namespace
+
+// Rest lengths are the initial distances, so an eccentric lattice starts unloaded: no
+// force, no motion, exactly, however large the offsets (Ra = 0.9).
+TEST(EccBonds, EccentricLatticeStartsAtRest) {
+  for (int dim : {2, 3}) {
+    const auto ecc = preprocess::make_eccentric(
+        block(dim),
+        {.type = preprocess::Eccentricity::Sphere, .ra = 0.9, .rc = 0.5, .gamma = 0.001, .seed = 7});
+    ASSERT_GT(ecc.bonds.weakened(), 0u);
+    Simulation sim(dim, Settings{.dt = 1e-9, .contact_detection = false});
+    add_lattice(sim, ecc.lattice, sim.add_material(c1_material(false)));
+    set_bonds(sim, ecc.bonds);
+    EXPECT_EQ(sim.bond_count(), ecc.bonds.size());
+    sim.initialise();
+    sim.set_dt(0.5 * sim.critical_dt());
+    sim.run(200);
+    EXPECT_EQ(sim.kinetic_energy(), 0.0) << dim << "D";
+    EXPECT_EQ(sim.bond_energy(), 0.0) << dim << "D";
+  }
+}
+
+// A stiffness factor f on every bond slows the dynamics by √f: with dt/√f and the same
+// number of steps, the leapfrog trajectory is the same up to rounding (v scales by √f,
+// forces by f). The critical step grows by 1/√f (Lanczos estimate, 1 % margin).
+TEST(EccBonds, StiffnessFactorScalesTimeByItsSquareRoot) {
+  for (int dim : {2, 3}) {
+    const auto lat = block(dim);
+    const auto bonds = preprocess::touching_pairs(lat);
+    double base_dt = 0;  // 0.3 dt_crit of the first run
+    auto run = [&](double factor, double dt_scale, double& dt_crit) {
+      Simulation sim(dim, Settings{.dt = 1e-15, .contact_detection = false});
+      add_lattice(sim, lat, sim.add_material(c1_material(false)));
+      sim.set_bonds(bonds.i, bonds.j, std::vector<double>(bonds.size(), factor));
+      sim.initialise();
+      dt_crit = sim.critical_dt();
+      if (base_dt == 0) base_dt = 0.3 * dt_crit;
+      sim.set_dt(dt_scale * base_dt);
+      // the same smooth velocity field, scaled by √factor
+      const double s = std::sqrt(factor), vs = 0.05 * kC1d / (300 * base_dt);
+      for (std::size_t i = 0; i < lat.size(); ++i) {
+        const auto& p = lat.x[i];
+        sim.set_velocity(i, {s * vs * std::sin(p[1] * 300.0), s * vs * 0.6 * std::cos(p[0] * 200.0),
+                             dim == 3 ? s * vs * 0.4 * std::sin(p[0] * 250) : 0});
+      }
+      sim.run(300);
+      return sim.displacements();
+    };
+    double dc1 = 0, dc4 = 0;
+    const auto u1 = run(1.0, 1.0, dc1);
+    const auto u4 = run(0.25, 2.0, dc4);
+    EXPECT_NEAR(dc4 / dc1, 2.0, 0.02) << dim << "D";
+    double umax = 0, diff = 0;
+    for (std::size_t i = 0; i < u1.size(); ++i)
+      for (int a = 0; a < 3; ++a) {
+        umax = std::max(umax, std::abs(u1[i][a]));
+        diff = std::max(diff, std::abs(u1[i][a] - u4[i][a]));
+      }
+    ASSERT_GT(umax, 1e-12);
+    // rounding only: rest lengths are distances (not exactly 2r), factors 0.25 and 2 are exact
+    EXPECT_LT(diff, 1e-9 * umax) << dim << "D";
+  }
+}
+
+TEST(EccBonds, BadBondListsAreRefused) {
+  const auto lat = block(2);
+  Simulation sim(2, Settings{.dt = 1e-9});
+  add_lattice(sim, lat, sim.add_material(c1_material(false)));
+  EXPECT_THROW(sim.set_bonds({0, 1}, {1}), Error);      // counts differ
+  EXPECT_THROW(sim.set_bonds({0}, {0}), Error);         // self bond
+  EXPECT_THROW(sim.set_bonds({0}, {1}, {1.5}), Error);  // factor > 1
+  EXPECT_THROW(sim.set_bonds({0, 1}, {1, 0}), Error);   // the same bond twice
+  EXPECT_THROW(sim.set_bonds({0}, {99999}), Error);     // no such particle
+}
