@@ -2,6 +2,7 @@
 
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
+#include <strata/preprocess/ecc.hpp>
 #include <strata/preprocess/fill.hpp>
 #include <strata/preprocess/geometry.hpp>
 #include <strata/preprocess/mesh_fill.hpp>
@@ -150,10 +151,14 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   bool breakable = false;
   for (const auto& t : sc.tables("material"))
     breakable |= std::isfinite(t.real("tensile_strength")) || std::isfinite(t.real("shear_strength"));
+  // Eccentric lattices: "auto" leaves the search off, since offset centroids can overlap
+  // unbonded neighbours at the start (broken bonds still push back and slide).
+  bool eccentric = false;
+  for (const auto& t : sc.tables("region")) eccentric |= t.str("eccentricity") != "none";
   const std::string& cd = solver.str("contact_detection");
   set.contact_detection =
-      cd == "on" ||
-      (cd == "auto" && (breakable || sc.tables("region").size() > 1 || !sc.tables("wall").empty()));
+      cd == "on" || (cd == "auto" && !eccentric &&
+                     (breakable || sc.tables("region").size() > 1 || !sc.tables("wall").empty()));
 
   BuiltModel m{dim, dem::Simulation(dim, set)};
   dem::Simulation& sim = m.sim;
@@ -176,12 +181,13 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   // Regions: fill each shape with its lattice; remember each region's lattice for groups.
   std::map<std::string, Filled> filled;
   std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
+  struct RegionBonds {
+    std::uint32_t first_id;
+    preprocess::BondList bonds;
+  };
+  std::vector<RegionBonds> region_bonds;
+  std::vector<std::size_t> regular_regions;
   for (const auto& r : sc.tables("region")) {
-    if (r.str("eccentricity") != "none")
-      r.fail("eccentricity",
-             "eccentric lattices (ECC4D) need per-bond rest lengths and stiffness factors in the DEM, which "
-             "this version of strata does not have yet; allowed here: \"none\" (the offsets and bond "
-             "statistics are available from strata::preprocess::make_eccentric)");
     if (r.str("kind") == "fem")
       r.fail("kind", "FEM regions are not available in this version of strata; allowed here: particles");
     RegionInfo info;
@@ -205,7 +211,25 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     const int mat = material_id.at(r.str("material"));
     const double rad = info.diameter / 2;
     sim.reserve(sim.particle_count() + f.lattice().size());
-    for (const auto& x : f.lattice().x) sim.add_particle(x, rad, mat);
+    // Bonds: the touching pairs of the regular lattice, region by region when any region is
+    // eccentric (ECC4D, SPEC C4: centroids offset, bonds kept, long ones weakened by γ);
+    // otherwise all touching pairs of the model (bond_touching_pairs below).
+    const std::string& ecc_type = r.str("eccentricity");
+    if (ecc_type != "none") {
+      preprocess::EccOptions o;
+      o.type = ecc_type == "cube" ? preprocess::Eccentricity::Cube : preprocess::Eccentricity::Sphere;
+      o.ra = r.real("ra");
+      o.rc = r.real("rc");
+      o.gamma = r.real("gamma");
+      o.seed = std::uint64_t(st.integer("seed")) + m.regions.size();  // one stream per region
+      const preprocess::EccLattice e = preprocess::make_eccentric(f.lattice(), o);
+      for (const auto& x : e.lattice.x) sim.add_particle(x, rad, mat);
+      region_bonds.push_back(RegionBonds{f.first_id, e.bonds});
+    } else {
+      for (const auto& x : f.lattice().x) sim.add_particle(x, rad, mat);
+      region_bonds.push_back(RegionBonds{f.first_id, preprocess::BondList{}});
+      regular_regions.push_back(region_bonds.size() - 1);
+    }
     info.particles = f.lattice().size();
     const double one = dim == 2 ? M_PI * rad * rad : 4.0 / 3.0 * M_PI * rad * rad * rad;
     info.packing = info.particles * one / info.measure;
@@ -230,7 +254,26 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     m.groups[g.str("name")] = ids.size();
   }
 
-  sim.bond_touching_pairs();
+  if (regular_regions.size() == region_bonds.size()) {
+    sim.bond_touching_pairs();
+  } else {
+    // eccentric regions present: bonds as data, each region bonded within itself
+    for (std::size_t idx : regular_regions) {
+      const auto& reg = m.regions[idx];
+      region_bonds[idx].bonds = preprocess::touching_pairs(filled.at(reg.name).lattice());
+    }
+    std::vector<std::uint32_t> bi, bj;
+    std::vector<double> factor;
+    for (const auto& rb : region_bonds) {
+      const auto& b = rb.bonds;
+      for (std::size_t q = 0; q < b.size(); ++q) {
+        bi.push_back(rb.first_id + b.i[q]);
+        bj.push_back(rb.first_id + b.j[q]);
+        factor.push_back(b.stiffness_factor[q]);
+      }
+    }
+    sim.set_bonds(bi, bj, factor);
+  }
 
   for (const auto& b : sc.tables("boundary")) {
     const std::string& group = b.str("group");

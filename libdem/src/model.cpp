@@ -696,10 +696,10 @@ class Model final : public ModelBase {
   }
 
   /// Length at which pair k of L (between p and j) carries no normal force: ri + rj (the
-  /// disks/spheres touch), or an intact eccentric-lattice bond's initial length.
+  /// disks/spheres touch), or an eccentric-lattice bond's initial length (intact or broken:
+  /// a broken one pushes back once shorter than that, as two touching grains would).
   double rest_of(const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
-    if (!L.r0.empty() && (L.st[k] & pair_state::kKindMask) == pair_state::kIntact) return L.r0[k];
-    return rad[p] + rad[j];
+    return L.r0.empty() ? rad[p] + rad[j] : L.r0[k];
   }
   /// The law of pair k of L: the materials' law, with Kn and Ks scaled by an intact
   /// eccentric-lattice bond's stiffness factor (SPEC C4: k -> γ·k).
@@ -1355,8 +1355,8 @@ class Model final : public ModelBase {
     for (std::size_t p = 0; p < n(); ++p) {
       for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
         const std::uint32_t j = bonds.j[k];
-        const bool on = (bonds.st[k] & pair_state::kKindMask) == pair_state::kIntact ||
-                        dist2(p, j) < (rad[p] + rad[j]) * (rad[p] + rad[j]);
+        const double r = rest_of(bonds, k, p, j);
+        const bool on = (bonds.st[k] & pair_state::kKindMask) == pair_state::kIntact || dist2(p, j) < r * r;
         if (on) fn(p, j, law_for(bonds, k, p, j));
       }
       for (std::uint32_t k = contacts.off[p]; k < contacts.off[p + 1]; ++k) {
@@ -1640,7 +1640,7 @@ class Model final : public ModelBase {
       for (const auto* L : {&bonds, &contacts})
         for (std::uint32_t k = L->off[p]; k < L->off[p + 1]; ++k) {
           const std::uint32_t j = L->j[k];
-          const double r = rad[p] + rad[j];
+          const double r = rest_of(*L, k, p, j);
           if (dist2(p, j) < r * r) out.push_back({std::min(id[p], id[j]), std::max(id[p], id[j])});
         }
     std::sort(out.begin(), out.end());

@@ -17,36 +17,13 @@
 #include <string>
 
 #include <vector>
+#include "cli_test_util.hpp"
 #include "series_check.hpp"
 
 namespace fs = std::filesystem;
+using namespace cli_test;
 
 namespace {
-
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result strata(const std::string& args) {
-  const std::string cmd = std::string(STRATA_EXE) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.output.append(buf.data(), n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-/// A fresh directory for one test.
-fs::path temp_dir(const std::string& name) {
-  const fs::path d =
-      fs::temp_directory_path() / ("strata_cli_" + name + "_" + std::to_string(std::random_device{}()));
-  fs::create_directories(d);
-  return d;
-}
 
 const std::string kMaterial = R"(
 [[material]]
@@ -89,11 +66,6 @@ velocity = [0.0, -0.05]
 [solver]
 steps = 400
 )" + extra;
-}
-
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  std::ofstream(dir / name) << text;
-  return dir / name;
 }
 
 }  // namespace

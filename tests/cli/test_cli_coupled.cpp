@@ -1,7 +1,9 @@
 // `strata check|run|mesh` of coupled-chain scenes ([coupled], SPEC C3): exit status, the
 // stability numbers, and what is (not) written.
 #include <gtest/gtest.h>
+
 #include <sys/wait.h>
+#include "cli_test_util.hpp"
 
 #include <array>
 #include <cstdio>
@@ -11,37 +13,9 @@
 #include <string>
 
 namespace fs = std::filesystem;
+using namespace cli_test;
 
 namespace {
-
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result strata(const std::string& args) {
-  const std::string cmd = std::string(STRATA_EXE) + " " + args + " 2>&1";
-  Result r;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.output.append(buf.data(), n);
-  const int st = pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() /
-                     ("strata_cli_coupled_" + name + "_" + std::to_string(std::random_device{}()));
-  fs::create_directories(d);
-  return d;
-}
-
-fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
-  std::ofstream(dir / name) << text;
-  return dir / name;
-}
 
 const fs::path kExample = fs::path(STRATA_SOURCE_DIR) / "examples" / "02_metamaterial_chain";
 

@@ -228,7 +228,9 @@ std::vector<TableSpec> make_schema() {
                .doc("Eccentric lattice (ECC4D, SPEC C4): move each particle's centroid by a random offset, "
                     "uniform in a cube of half-side ra·R (cube, Type A) or uniform on a sphere (a circle in "
                     "2D) "
-                    "of radius ra·R (sphere, Type B); bonds stay those of the regular lattice."),
+                    "of radius ra·R (sphere, Type B); bonds stay those of the regular lattice, with their "
+                    "initial lengths as rest lengths (the model starts unloaded). With an eccentric region "
+                    "in the scene every region is bonded within itself only (no bonds between regions)."),
            K("ra", Real)
                .ge(0)
                .lt(1)
@@ -242,7 +244,7 @@ std::vector<TableSpec> make_schema() {
                .doc("Rc: bonds longer than Rc·L_max, with L_max the longest bond of the region, are "
                     "weakened by gamma (SPEC C4)."),
            K("gamma", Real)
-               .ge(0)
+               .gt(0)
                .le(1)
                .def("1.0")
                .doc("γ: stiffness factor of the weakened bonds, k -> γ·k (SPEC C4 uses 0.001)."),
@@ -429,7 +431,8 @@ std::vector<TableSpec> make_schema() {
                .def(R"("auto")")
                .doc("Search for new contacts between particles that were not bonded at the start: on, "
                     "off, or auto (on only when particles can meet new neighbours, e.g. when bonds can "
-                    "break or walls move)."),
+                    "break or walls move, and off with eccentric regions, whose offset centroids can "
+                    "overlap unbonded neighbours at the start)."),
            K("allow_unstable", Bool)
                .def("false")
                .doc("Run even when dt exceeds the critical time step, with a warning."),

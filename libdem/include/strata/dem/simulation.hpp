@@ -118,8 +118,10 @@ class Simulation {
   /// Bonds given as data instead (eccentric lattices, SPEC C4): bond b joins particles
   /// first[b] and second[b] (ids); its rest length is the centres' distance now (so the
   /// model starts unloaded whatever the offsets), and while intact its Kn and Ks are scaled
-  /// by factor[b] in (0, 1] (the γ of weakened bonds; empty: all 1). A broken bond's contact
-  /// uses ri + rj and the material's stiffness, like any contact. Call it once, before
+  /// by factor[b] in (0, 1] (the γ of weakened bonds; empty: all 1). A broken bond pushes
+  /// back (material stiffness, friction) when shorter than its rest length. Unbonded
+  /// neighbours of a strongly eccentric lattice may overlap at the start (3D: Ra > 0.41;
+  /// 2D: Ra > 0.73): turn contact detection off for such models. Call it once, before
   /// initialise(), instead of bond_touching_pairs(). Costs 16 bytes per bond.
   void set_bonds(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& second,
                  const std::vector<double>& factor = {});

@@ -1,0 +1,47 @@
+#pragma once
+// Running the `strata` binary from tests: exit status and output, fresh directories, files.
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+
+namespace cli_test {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+/// Runs `strata ARGS` (the binary under test) and returns its exit status and output.
+inline Result strata(const std::string& args) {
+  const std::string cmd = std::string(STRATA_EXE) + " " + args + " 2>&1";
+  Result r;
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (std::size_t n = std::fread(buf.data(), 1, buf.size(), p)) r.output.append(buf.data(), n);
+  const int st = pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+/// A fresh directory for one test.
+inline fs::path temp_dir(const std::string& name) {
+  const fs::path d =
+      fs::temp_directory_path() / ("strata_cli_" + name + "_" + std::to_string(std::random_device{}()));
+  fs::create_directories(d);
+  return d;
+}
+
+inline fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+
+}  // namespace cli_test
