@@ -16,6 +16,7 @@
 #include <strata/couple/partition.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -75,9 +76,16 @@ class Coupler {
   /// Records displacement of a DOF after every step of its partition (and at t = 0).
   void probe_fem(std::size_t dof, std::string name);
   void probe_dem(std::size_t dof, std::string name);
+  /// Calls `f(partition)` after every step of that partition (and once at t = 0, after
+  /// initialise), on the thread that runs it: gauges that average several DOFs, energies.
+  /// An observer must only read its own partition (in parallel mode the other one is moving).
+  using Observer = std::function<void(const Partition&)>;
+  void observe_fem(Observer f) { fem_obs_.push_back(std::move(f)); }
+  void observe_dem(Observer f) { dem_obs_.push_back(std::move(f)); }
 
-  /// Checks stability (throws strata::Error(Input) naming the limits unless allow_unstable),
-  /// initialises both partitions and copies the initial overlap.
+  /// Prepares both partitions (Partition::prepare), checks stability (throws
+  /// strata::Error(Input) naming the limits unless allow_unstable), initialises both
+  /// partitions and copies the initial overlap.
   void initialise(bool allow_unstable = false);
   /// Runs `system_steps` system steps (each: exchange, 1 FEM step, η DEM steps).
   void run(std::int64_t system_steps);
@@ -100,6 +108,7 @@ class Coupler {
   CoupledStability stab_;
   std::vector<std::size_t> fem_probe_dofs_, dem_probe_dofs_;
   std::vector<ProbeHistory> fem_hist_, dem_hist_;
+  std::vector<Observer> fem_obs_, dem_obs_;
   std::int64_t done_ = 0;
   bool initialised_ = false;
 };

@@ -4,9 +4,10 @@
 /// prescribed values for its external DOFs (the other partition's boundary).
 ///
 /// The coupler talks only to this interface, so the FEM (libfem) and DEM sides are
-/// interchangeable. In this version the DEM side of the chain cases is a spring network
-/// integrated by velocity Verlet (SpringNetworkPartition), the scheme libdem uses; adapting a
-/// libdem Simulation is later work (see libcouple/README.md for what libdem would need).
+/// interchangeable. Implementations: FemPartition (a libfem Solver), DemPartition (a libdem
+/// bonded-particle Simulation, 2D or 3D; DOF = particle id·dim + axis) and
+/// SpringNetworkPartition (point masses and springs by velocity Verlet, used by the 1D chain
+/// cases). See libcouple/README.md.
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -34,6 +35,10 @@ class Partition {
   /// New value of an external DOF at the current time; until the next call it moves with
   /// the constant velocity v (u(t) = u + v·(t − now)).
   virtual void set_external(std::size_t d, double u, double v) = 0;
+  /// Freezes the set of external DOFs and computes what critical_dt() needs (the coupler
+  /// calls it before its stability check). Default: nothing to do. DemPartition initialises
+  /// its libdem Simulation here, which is when libdem computes its critical step.
+  virtual void prepare() {}
   /// Checks the step against the partition's own limit and prepares the run.
   virtual void initialise() = 0;
   /// One step of dt().

@@ -1,0 +1,122 @@
+#pragma once
+/// `strata report wave`: a 2D FEM–DEM coupled model built from a geometry file (issue 6).
+///
+/// Two physical surfaces sharing a straight side (default examples/04_coupled_wave/wave.geo:
+/// an FEM block and a particle block side by side). `preprocess::build_overlap` fills the
+/// particle block (and the one-layer overlap) with a hexagonal lattice of diameter d and
+/// meshes the FEM block with gmsh so that FEM nodes coincide with the overlap particles.
+///
+///  - DEM: libdem `Simulation`, SPEC C1 bond stiffnesses (Kn = 6.587e10 N/m, Ks = 2.371e10
+///    N/m, ρ = 2650 kg/m² per unit thickness), unbreakable bonds, no contact search, no
+///    damping, leapfrog at dt_DEM = dt_fraction × 2/√λmax of the infinite hex lattice.
+///  - FEM: libfem linear triangles, plane stress, E = 2√3·Kn(Kn+Ks)/(3Kn+Ks) = 9.236e10 Pa,
+///    ν = (Kn−Ks)/(3Kn+Ks) = 0.1905, ρ = 2650 kg/m³, thickness 1 m (SPEC C2): the same
+///    long-wavelength elasticity and mass per area as the lattice, so the impedances match.
+///    dt_FEM = η·dt_DEM; central difference where that is below the FEM's explicit limit,
+///    implicit Newmark (β = 1/4, γ = 1/2) otherwise ("auto").
+///  - Rollers on both lateral sides (FEM nodes on the sides, the end particles of every
+///    lattice column: lateral displacement held), so the wave is a 1D strain pulse.
+///  - Load: traction σ(t) = Z·v0·sin²(πt/T) for 0 ≤ t ≤ T on the FEM's far side (Z = ρc,
+///    c = √(E/((1−ν²)ρ))), giving an incident particle-velocity pulse of peak v0 and length
+///    λ = c·T ("wavelength", given in particle diameters).
+///  - Gauges: the mass-weighted mean velocity (along the propagation direction) of the FEM
+///    nodes in a band halfway through the FEM block, and the mean velocity of one lattice
+///    column a third of the way into the particle block.
+///  - Incident, reflected and transmitted pulses are separated in time by their arrival times
+///    at c (windows from 0.2·T before to 1.3·T after the arrival); the geometry must be long
+///    enough for the windows not to overlap (checked). R = reflected/incident peak, R_E =
+///    reflected/incident ∫v²dt; T and T_E likewise for the transmitted pulse (analytical
+///    1D values for matched impedance: R = 0, T = 1, R_E + T_E = 1).
+#include <strata/couple/coupler.hpp>
+#include <strata/fem/solver.hpp>
+#include <strata/preprocess/overlap.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace strata::app {
+
+struct WaveOptions {
+  std::filesystem::path output = "out/wave";  ///< directory for wave_sweep.{csv,md,png}, wave_gauges.png
+  std::filesystem::path geometry;             ///< empty: examples/04_coupled_wave/wave.geo
+  std::string particle_region = "dem";        ///< physical surface filled with particles
+  std::string fem_region = "fem";             ///< physical surface meshed for the FEM
+  std::vector<int> etas{1, 2, 4, 5, 10};      ///< integer η >= 1
+  std::string modes = "both";                 ///< serial, parallel or both
+  std::vector<double> wavelengths{10, 20, 40, 80};  ///< pulse length c·T in particle diameters
+  double d = 1e-3;                                  ///< particle diameter (m)
+  /// dt_DEM / (2/√λmax of the hex lattice). 0.15 keeps dt_FEM = η·dt_DEM <= 1.5 x the DEM
+  /// limit up to η = 10: the overlap exchange itself was measured unstable from about 2.5 x
+  /// (see examples/04_coupled_wave/README.md), whatever the FEM integrator.
+  double dt_fraction = 0.15;
+  std::string fem_scheme = "auto";  ///< auto, central-difference, explicit-newmark, implicit-newmark
+  double fem_far_size =
+      1;  ///< largest FEM element (particle diameters); 1: uniform, the cleanest measurement
+  double fem_growth = 0.1;     ///< FEM element size growth per metre away from the interface
+  double peak_velocity = 0.1;  ///< v0 of the incident pulse (m/s)
+  int repeats = 1;             ///< runs per point, fastest wall time kept
+  /// Threads of the parallel loops inside each partition (libdem, libfem); 0: all. The
+  /// default 1: these models are small, and a thread hand-off per step costs more than it
+  /// saves. Independent of `modes` (the parallel mode runs the two partitions on two threads).
+  int threads = 1;
+  bool quick = false;  ///< η ∈ {1, 5}, λ = 20 d, serial and parallel (CTest)
+  bool no_plot = false;
+};
+
+/// Everything built once from the geometry.
+struct WaveModel {
+  std::filesystem::path geometry;
+  preprocess::OverlapModel overlap;
+  double d = 0;
+  double kn = 0, ks = 0, rho = 0;         ///< lattice (N/m, N/m, kg/m²)
+  double E = 0, nu = 0, c = 0;            ///< FEM plane stress (Pa, -), long-wave P speed (m/s)
+  double dt_dem = 0;                      ///< DEM step (s)
+  double dem_dt_crit = 0;                 ///< 2/√λmax of the infinite hex lattice (s), >= libdem's own
+  double fem_explicit_dt = 0;             ///< FEM explicit limit, rollers and overlap externals held (s)
+  double fem_length = 0, dem_length = 0;  ///< extents along the propagation axis (m)
+  double load_depth = 0;                  ///< depth of the loaded FEM side (m)
+  double fem_gauge_depth = 0, dem_gauge_depth = 0;  ///< distances of the gauges from Γ (m)
+  double build_s = 0;                               ///< preprocess time (s)
+  std::size_t particles = 0, fem_nodes = 0, fem_elements = 0;
+};
+
+/// Builds the particles, the FEM mesh and the overlap from the geometry file.
+WaveModel build_wave_model(const WaveOptions& opt);
+
+/// One coupled run.
+struct WaveRun {
+  double lambda_d = 0;  ///< pulse length in particle diameters
+  int eta = 1;
+  couple::Execution mode = couple::Execution::Serial;
+  std::string fem_scheme;     ///< integrator used
+  std::string status = "ok";  ///< "ok", or why the coupler refused the point
+  double dt_dem = 0, dt_fem = 0, duration = 0;
+  std::int64_t fem_steps = 0, dem_steps = 0;
+  double v0 = 0;        ///< analytical incident peak velocity (m/s)
+  double incident = 0;  ///< measured incident peak at the FEM gauge (m/s)
+  double r_peak = 0;    ///< max |v| in the reflected window / incident peak
+  double floor = 0;     ///< max |v| between the incident and reflected windows / incident peak
+  double r_energy = 0;  ///< ∫v² reflected / ∫v² incident (FEM gauge)
+  double t_peak = 0;    ///< max |v| at the DEM gauge / incident peak
+  double t_energy = 0;  ///< ∫v² transmitted (DEM gauge) / ∫v² incident (FEM gauge)
+  double setup_s = 0;   ///< building both partitions, coupler set-up and stability checks (s)
+  double wall_s = 0;    ///< set-up + coupled run, fastest of `repeats` (s)
+  std::vector<double> t_fem, v_fem, t_dem, v_dem;       ///< gauge signals
+  double t_inc = 0, t_ref = 0, t_tra = 0, pulse_T = 0;  ///< arrival times, pulse duration (s)
+  std::uint64_t dem_hash = 0;                           ///< libdem state hash at the end
+  std::vector<double> fem_u;                            ///< FEM displacement at the end
+};
+
+/// Runs one point. `scheme` "auto" picks central difference when η·dt_DEM is below the FEM
+/// explicit limit and implicit Newmark otherwise. A point the coupler refuses (an explicit
+/// FEM above its limit) comes back with status "refused: ...".
+WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, int eta, couple::Execution mode,
+                 const std::string& scheme);
+
+/// `strata report wave`: the sweep over wavelengths, η and modes; writes wave_sweep.csv,
+/// wave_sweep.md, wave_sweep.png and wave_gauges.png. Returns the exit status.
+int wave_report_cmd(const WaveOptions& opt);
+
+}  // namespace strata::app
