@@ -167,6 +167,7 @@ class Model final : public ModelBase {
     std::vector<std::vector<Incoming>> in;
   } plan;
   bool plan_dirty = true;
+  double uniform_diameter = 0;           // 2r when every particle has radius r, else 0 (set by build_plan)
   std::vector<double> cross_b, cross_c;  // D forces + 1 energy per slot
 
   // ---- per-step context ------------------------------------------------------------------
@@ -822,6 +823,9 @@ class Model final : public ModelBase {
         }
       }
     }
+    uniform_diameter = N > 0 && std::all_of(rad.begin(), rad.end(), [&](double r) { return r == rad[0]; })
+                           ? 2 * rad[0]
+                           : 0.0;
     cross_b.assign(plan.base_b[nt] * (D + 1), 0.0);
     cross_c.assign(plan.base_c[nt] * (D + 1), 0.0);
     plan_dirty = false;
@@ -893,7 +897,10 @@ class Model final : public ModelBase {
   // of the endpoints' positions and velocities); the others (broken bonds, bonds breaking
   // now, pairs of two materials) are redone by the scalar law. Both evaluate the same
   // expressions in the same order, so the results do not depend on which path a bond takes.
-  template <bool kEnergy, bool kPerBond>
+  /// How the bond pass gets a bond's rest length.
+  enum Rest { kRadiusSum, kUniform, kPerBond };
+
+  template <bool kEnergy, Rest kRest>
   void bond_block(int t, const Ctx& c, std::ptrdiff_t p0, std::ptrdiff_t pe, std::ptrdiff_t e) {
     const std::uint32_t k0 = bonds.off[p0], k1 = bonds.off[pe];
     const std::size_t m = k1 - k0;
@@ -916,8 +923,9 @@ class Model final : public ModelBase {
     const std::uint8_t* __restrict bst = bonds.st.data() + k0;
     double* __restrict bus = bonds.us.data() + std::size_t{k0} * kNs;
     // eccentric lattices: per-bond rest length and stiffness factor
-    const double* __restrict br0 = kPerBond ? bonds.r0.data() + k0 : nullptr;
-    const double* __restrict bkf = kPerBond ? bonds.kf.data() + k0 : nullptr;
+    const double* __restrict br0 = kRest == kPerBond ? bonds.r0.data() + k0 : nullptr;
+    const double* __restrict bkf = kRest == kPerBond ? bonds.kf.data() + k0 : nullptr;
+    const double d_uniform = uniform_diameter;  // = R[p] + R[j] exactly when all radii are equal
     double* __restrict EN = S.en.data();
     std::uint8_t* __restrict slow = S.slow.data();
     const SolidLatticeLaw& L = laws[0];
@@ -945,10 +953,12 @@ class Model final : public ModelBase {
         n1 *= inv;
         if constexpr (D == 3) n2 *= inv;
         double un, kn = kn0, ks = ks0;
-        if constexpr (kPerBond) {
+        if constexpr (kRest == kPerBond) {
           un = br0[q] - len;
           kn = kn0 * bkf[q];
           ks = ks0 * bkf[q];
+        } else if constexpr (kRest == kUniform) {
+          un = d_uniform - len;  // two gathers fewer
         } else {
           un = R[p] + R[j] - len;
         }
@@ -1067,10 +1077,12 @@ class Model final : public ModelBase {
     for (std::ptrdiff_t blk = b / kBlock; blk * kBlock < e; ++blk) {
       const std::ptrdiff_t pe = std::min(e, (blk + 1) * kBlock);
       double work = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0;
-      if (bonds.r0.empty())
-        bond_block<kEnergy, false>(t, c, blk * kBlock, pe, e);
+      if (!bonds.r0.empty())
+        bond_block<kEnergy, kPerBond>(t, c, blk * kBlock, pe, e);
+      else if (uniform_diameter > 0)
+        bond_block<kEnergy, kUniform>(t, c, blk * kBlock, pe, e);
       else
-        bond_block<kEnergy, true>(t, c, blk * kBlock, pe, e);
+        bond_block<kEnergy, kRadiusSum>(t, c, blk * kBlock, pe, e);
       const Scratch& S = scratch[t];
       const std::uint32_t kb0 = boff[blk * kBlock];
       for (std::ptrdiff_t p = blk * kBlock; p < pe; ++p) {
