@@ -136,16 +136,14 @@ class Model final : public ModelBase {
   };
   std::vector<std::vector<RawEvent>> evbuf;
 
-  /// Per-thread scratch of the bond pass of one block (see bond_block): the owner of each
-  /// bond, its force on the owner, its energy, and whether the scalar law must redo it.
+  /// Per-thread scratch of the bond pass of one block (see bond_block): each bond's force on
+  /// its owner, its energy, and whether the scalar law must redo it.
   struct Scratch {
-    std::vector<std::uint32_t> own;
     std::array<std::vector<double>, D> fb;
     std::vector<double> en;
     std::vector<std::uint8_t> slow;
     void fit(std::size_t m) {
-      if (own.size() >= m) return;
-      own.resize(m);
+      if (en.size() >= m) return;
       for (auto& a : fb) a.resize(m);
       en.resize(m);
       slow.resize(m);
@@ -167,7 +165,11 @@ class Model final : public ModelBase {
     std::vector<std::vector<Incoming>> in;
   } plan;
   bool plan_dirty = true;
-  double uniform_diameter = 0;           // 2r when every particle has radius r, else 0 (set by build_plan)
+  double uniform_diameter = 0;  // 2r when every particle has radius r, else 0 (set by build_plan)
+  /// Owner of each bond relative to the start of its block (one byte per bond: kBlock =
+  /// 256; the bond pass reads owners from it instead of walking the CSR offsets every step).
+  std::vector<std::uint8_t> bond_owner;
+  static_assert(kBlock <= 256, "bond_owner holds owner offsets in one byte");
   std::vector<double> cross_b, cross_c;  // D forces + 1 energy per slot
 
   // ---- per-step context ------------------------------------------------------------------
@@ -823,6 +825,10 @@ class Model final : public ModelBase {
         }
       }
     }
+    bond_owner.resize(bonds.size());
+    for (std::size_t p = 0; p < N; ++p)
+      for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
+        bond_owner[k] = static_cast<std::uint8_t>(p % kBlock);
     uniform_diameter = N > 0 && std::all_of(rad.begin(), rad.end(), [&](double r) { return r == rad[0]; })
                            ? 2 * rad[0]
                            : 0.0;
@@ -906,10 +912,8 @@ class Model final : public ModelBase {
     const std::size_t m = k1 - k0;
     Scratch& S = scratch[t];
     S.fit(m);
-    std::uint32_t* __restrict own = S.own.data();
-    for (std::ptrdiff_t p = p0; p < pe; ++p)
-      for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
-        own[k - k0] = static_cast<std::uint32_t>(p);
+    const std::uint8_t* __restrict own = bond_owner.data() + k0;  // owner - p0
+    const std::uint32_t up0 = static_cast<std::uint32_t>(p0);
     const double* __restrict X[D];
     const double* __restrict V[D];
     double* __restrict FB[D];
@@ -940,7 +944,7 @@ class Model final : public ModelBase {
       double* __restrict F0 = FB[0], * __restrict F1 = FB[1], * __restrict F2 = FB[D - 1];
 #pragma GCC ivdep
       for (std::size_t q = 0; q < m; ++q) {
-        const std::uint32_t p = own[q], j = bj[q];
+        const std::uint32_t p = up0 + own[q], j = bj[q];
         double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
         double len2 = n0 * n0 + n1 * n1;
         if constexpr (D == 3) {
@@ -1018,7 +1022,7 @@ class Model final : public ModelBase {
       }
       if (!slow[q] || bj[q] >= ee) [[likely]]
         continue;
-      const std::uint32_t p = own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
+      const std::uint32_t p = up0 + own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
       double F[D];
       int broke = 0;
       EN[q] = pair_force<kEnergy>(XC, VC, rest_of(bonds, k, p, j), p, j, bonds.st[k],
@@ -1749,6 +1753,7 @@ class Model final : public ModelBase {
     b += bonds.bytes() + contacts.bytes();
     b += bcp.capacity() * sizeof(BcParticle) + acc.capacity() * sizeof(BlockAcc);
     b += (cross_b.capacity() + cross_c.capacity()) * sizeof(double);
+    b += bond_owner.capacity();
     b += events.capacity() * sizeof(BreakEvent);
     return b;
   }

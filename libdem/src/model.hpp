@@ -14,7 +14,7 @@ namespace strata::dem::detail {
 inline constexpr std::uint32_t kNone = 0xffffffffu;
 /// Particles per accumulator block: energy/work sums are formed per block and added in
 /// block order, so they do not depend on the thread count. Thread ranges are whole blocks.
-inline constexpr std::ptrdiff_t kBlock = 512;
+inline constexpr std::ptrdiff_t kBlock = 256;
 
 /// Bonds or contacts stored CSR by owner: the pairs (i, j > i) of owner i are
 /// off[i] .. off[i+1]-1, sorted by j; i is implied.
