@@ -924,7 +924,7 @@ class Model final : public ModelBase {
     }
     const double* __restrict R = rad.data();
     const std::uint32_t* __restrict bj = bonds.j.data() + k0;
-    const std::uint8_t* __restrict bst = bonds.st.data() + k0;
+    std::uint8_t* __restrict bst = bonds.st.data() + k0;
     double* __restrict bus = bonds.us.data() + std::size_t{k0} * kNs;
     // eccentric lattices: per-bond rest length and stiffness factor
     const double* __restrict br0 = kRest == kPerBond ? bonds.r0.data() + k0 : nullptr;
@@ -937,14 +937,20 @@ class Model final : public ModelBase {
     const double mu_b = L.friction_strengthens_bonds ? mu : 0.0;  // intact-bond friction term
     const std::uint32_t ee = static_cast<std::uint32_t>(e);
     if (nmat == 1) {
-      // The law's intact branch (SolidLatticeLaw::apply, pair_force), written out with one
-      // pointer per axis (arrays of pointers keep GCC from vectorising the 3D loop).
+      // SolidLatticeLaw::apply written out for both kinds of bond in the list: intact (that
+      // stays intact) and broken (friction only), with one pointer per axis (arrays of
+      // pointers keep GCC from vectorising the 3D loop). Bitwise & and selects instead of
+      // branches, so the loop vectorises; a bond left for the scalar law (one breaking now,
+      // or a cross bond) keeps its stored state here.
+      using namespace pair_state;
       const double* __restrict X0 = X[0], * __restrict X1 = X[1], * __restrict X2 = X[D - 1];
       const double* __restrict V0 = V[0], * __restrict V1 = V[1], * __restrict V2 = V[D - 1];
       double* __restrict F0 = FB[0], * __restrict F1 = FB[1], * __restrict F2 = FB[D - 1];
+      const double ksb2 = ks0 * ks0;  // broken bonds: the material's stiffness
 #pragma GCC ivdep
       for (std::size_t q = 0; q < m; ++q) {
         const std::uint32_t p = up0 + own[q], j = bj[q];
+        const std::uint8_t st0 = bst[q];
         double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
         double len2 = n0 * n0 + n1 * n1;
         if constexpr (D == 3) {
@@ -959,47 +965,78 @@ class Model final : public ModelBase {
         double un, kn = kn0, ks = ks0;
         if constexpr (kRest == kPerBond) {
           un = br0[q] - len;
-          kn = kn0 * bkf[q];
+          kn = kn0 * bkf[q];  // intact only
           ks = ks0 * bkf[q];
         } else if constexpr (kRest == kUniform) {
           un = d_uniform - len;  // two gathers fewer
         } else {
           un = R[p] + R[j] - len;
         }
-        const double ks2 = ks * ks;
-        const double fn = kn * un;
-        const double lim = fs0 + mu_b * std::max(fn, 0.0);  // = fs0 exactly when mu_b = 0
-        bool ok = (bst[q] == pair_state::kIntact) & (j < ee) & (fn >= -fn_max);
-        // bitwise &: no branches, so the loop vectorises; a bond left for the scalar law keeps
-        // its stored shear displacement
+        // shear displacement with this step's increment, and its square
+        double us[3] = {0, 0, 0}, b[3] = {0, 0, 0};  // new and stored Us
         if constexpr (D == 2) {
-          const double us = bus[q] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
-          const double u2 = us * us;
-          ok &= u2 * ks2 <= lim * lim;
-          slow[q] = !ok;
-          bus[q] = ok ? us : bus[q];
-          F0[q] = -fn * n0 - ks * us * n1;
-          F1[q] = -fn * n1 + ks * us * n0;
-          if constexpr (kEnergy) EN[q] = 0.5 * kn * un * un + 0.5 * ks * u2;
+          b[0] = bus[q];
+          us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
         } else {
           const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
           const double dun = du0 * n0 + du1 * n1 + du2 * n2;
-          const double b0 = bus[3 * q], b1 = bus[3 * q + 1], b2 = bus[3 * q + 2];
+          b[0] = bus[3 * q];
+          b[1] = bus[3 * q + 1];
+          b[2] = bus[3 * q + 2];
+          const double b0 = b[0], b1 = b[1], b2 = b[2];
           const double usn = b0 * n0 + b1 * n1 + b2 * n2;
-          const double us0 = (b0 - usn * n0) + (du0 - dun * n0);
-          const double us1 = (b1 - usn * n1) + (du1 - dun * n1);
-          const double us2 = (b2 - usn * n2) + (du2 - dun * n2);
-          const double u2 = us0 * us0 + us1 * us1 + us2 * us2;
-          ok &= u2 * ks2 <= lim * lim;
-          slow[q] = !ok;
-          bus[3 * q] = ok ? us0 : b0;
-          bus[3 * q + 1] = ok ? us1 : b1;
-          bus[3 * q + 2] = ok ? us2 : b2;
-          F0[q] = -fn * n0 + ks * us0;
-          F1[q] = -fn * n1 + ks * us1;
-          F2[q] = -fn * n2 + ks * us2;
-          if constexpr (kEnergy) EN[q] = 0.5 * kn * un * un + 0.5 * ks * u2;
+          us[0] = (b0 - usn * n0) + (du0 - dun * n0);
+          us[1] = (b1 - usn * n1) + (du1 - dun * n1);
+          us[2] = (b2 - usn * n2) + (du2 - dun * n2);
         }
+        double u2 = 0;
+        for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
+        // intact: Fn = Kn·Un, Fs = Ks·Us, limits (SPEC C1 eqs. 1-5)
+        const bool intact = st0 == kIntact;
+        const double fn_i = kn * un;
+        const double lim = fs0 + mu_b * std::max(fn_i, 0.0);  // = fs0 exactly when mu_b = 0
+        const bool holds = (fn_i >= -fn_max) & (u2 * (ks * ks) <= lim * lim);
+        // broken: open (Un <= 0) carries nothing and forgets Us; touching: Coulomb slip
+        const bool touch = un > 0;
+        const double fn_t = kn0 * un;
+        const double cap = mu * fn_t;
+        const double fs2 = u2 * ksb2;
+        const double sc = cap / std::sqrt(fs2);
+        const bool slip = fs2 > cap * cap;
+        double ub[3], ub2 = 0;
+        for (int a = 0; a < kNs; ++a) {
+          ub[a] = touch ? (slip ? us[a] * sc : us[a]) : 0.0;
+          ub2 += ub[a] * ub[a];
+        }
+        const std::uint8_t st_b =
+            touch ? static_cast<std::uint8_t>(st0 | kTouching |
+                                              ((!(st0 & kTouching) && (st0 & kSeparated)) ? kReclosed : 0))
+                  : static_cast<std::uint8_t>((st0 & ~kTouching) | kSeparated);
+        const bool fast = (j < ee) & (!intact | holds);
+        slow[q] = !fast;
+        const double fn = intact ? fn_i : (touch ? fn_t : 0.0);
+        const double kss = intact ? ks : ks0;
+        double uo[3];
+        for (int a = 0; a < kNs; ++a) uo[a] = intact ? us[a] : ub[a];
+        if constexpr (D == 2) {
+          bus[q] = fast ? uo[0] : b[0];
+        } else {
+          bus[3 * q] = fast ? uo[0] : b[0];
+          bus[3 * q + 1] = fast ? uo[1] : b[1];
+          bus[3 * q + 2] = fast ? uo[2] : b[2];
+        }
+        bst[q] = fast && !intact ? st_b : st0;
+        if constexpr (D == 2) {
+          F0[q] = -fn * n0 - kss * uo[0] * n1;
+          F1[q] = -fn * n1 + kss * uo[0] * n0;
+        } else {
+          F0[q] = -fn * n0 + kss * uo[0];
+          F1[q] = -fn * n1 + kss * uo[1];
+          F2[q] = -fn * n2 + kss * uo[2];
+        }
+        if constexpr (kEnergy)
+          EN[q] = intact ? 0.5 * kn * un * un + 0.5 * ks * u2
+                         : (touch ? 0.5 * kn0 * un * un + 0.5 * ks0 * ub2 : 0.0);
       }
     } else {
       std::fill(slow, slow + m, std::uint8_t{1});
