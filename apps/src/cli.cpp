@@ -192,6 +192,16 @@ int main(int argc, char** argv) {
   report->add_option("--threads", wave.threads, "wave: threads of the loops inside each partition (0 = all)")
       ->check(CLI::NonNegativeNumber);
   report->add_flag("--quick", wave.quick, "wave: eta 1 and 5, one wavelength (20 d): a few seconds");
+  report->add_flag(
+      "--embedded", wave.embedded,
+      "wave: FEM | DEM | FEM (examples/04_coupled_wave/wave_embedded.geo, eta 1 2 5, 20 and 40 d)");
+  report->add_option("--exit-region", wave.exit_region, "wave: second FEM group, beyond the particles");
+  report
+      ->add_option("--frames", wave.frames,
+                   "wave: VTK frames of one extra run in DIR/series (0: none; 12, quick 3)")
+      ->check(CLI::NonNegativeNumber);
+  report->add_option("--series-eta", wave.series_eta, "wave: eta of the series run (serial, longest pulse)")
+      ->check(CLI::PositiveNumber);
   report->footer(
       "Examples:\n  strata report chain6 -o out/chain6\n  strata report metamaterial --dt-dem 1e-4 --check\n"
       "  strata report wave -o out/wave --wavelengths 10 20 40");

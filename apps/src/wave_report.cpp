@@ -10,6 +10,8 @@
 #include <strata/dem/simulation.hpp>
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
+#include <strata/io/render.hpp>
+#include <strata/io/series.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +20,8 @@
 #include <fstream>
 #include <limits>
 #include <map>
+
+#include "frames.hpp"
 
 namespace strata::app {
 
@@ -70,13 +74,20 @@ std::vector<std::uint32_t> fem_roller_nodes(const WaveModel& m) {
 
 struct Plan {
   double T = 0, t_inc = 0, t_ref = 0, t_tra = 0, t_end = 0, sigma0 = 0;
+  double t_ref2 = 0, t_exit = 0;  // embedded: second interface's reflection, exit gauge
 };
 
 Plan plan_of(const WaveModel& m, const WaveOptions& opt, double lambda_d) {
   const double lambda = lambda_d * m.d;
-  const double limit = 4.0 / 3.0 *
-                       std::min({m.fem_gauge_depth, m.dem_length, m.load_depth - m.fem_gauge_depth,
-                                 m.dem_length - m.dem_gauge_depth});
+  double limit = 4.0 / 3.0 *
+                 std::min({m.fem_gauge_depth, m.dem_length, m.load_depth - m.fem_gauge_depth,
+                           m.dem_length - m.dem_gauge_depth});
+  // Embedded: the second interface's reflection must arrive at the FEM gauge before the first
+  // one's, bounced off the loaded side, comes back; the exit gauge must see the pulse before
+  // its bounce off the exit block's far side.
+  if (m.embedded)
+    limit = std::min({limit, 4.0 / 3.0 * (m.load_depth - m.fem_gauge_depth - m.dem_length),
+                      4.0 / 3.0 * (m.exit_length - m.exit_gauge_depth)});
   STRATA_CHECK(
       lambda_d > 0 && lambda <= limit, Input,
       "wave: a pulse of {} particle diameters ({:.4g} m) is too long for this geometry: incident, "
@@ -89,6 +100,11 @@ Plan plan_of(const WaveModel& m, const WaveOptions& opt, double lambda_d) {
   p.t_ref = (m.load_depth + m.fem_gauge_depth) / m.c;
   p.t_tra = (m.load_depth + m.dem_gauge_depth) / m.c;
   p.t_end = std::max(p.t_ref, p.t_tra) + kAfter * p.T;
+  if (m.embedded) {
+    p.t_ref2 = p.t_ref + 2 * m.dem_length / m.c;
+    p.t_exit = (m.load_depth + m.dem_length + m.exit_gauge_depth) / m.c;
+    p.t_end = std::max({p.t_end, p.t_ref2 + kAfter * p.T, p.t_exit + kAfter * p.T});
+  }
   p.sigma0 = m.rho * m.c * opt.peak_velocity;
   return p;
 }
@@ -115,6 +131,200 @@ std::string scheme_name(const WaveModel& m, int eta, const std::string& scheme) 
   return eta * m.dt_dem <= m.fem_explicit_dt ? "central-difference" : "implicit-newmark";
 }
 
+// ---- VTK series and pictures of one run ----
+
+// The coupled state at the start of a system step, after the overlap exchange: the external
+// sites hold the values the coupler copies (X_E(DEM) = X_B(FEM), X_E(FEM) = X_B(DEM)), so
+// coincident sites show the same displacement and velocity in both files. Point array
+// "overlap" on both sides: 0 internal, 1 boundary, 2 external (preprocess::OverlapTag).
+struct FramePair {
+  io::PointCloud particles;
+  io::MeshFrame mesh;
+};
+
+io::Array* point_array(io::MeshFrame& f, std::string_view name) {
+  for (auto& a : f.point_data)
+    if (a.name == name) return &a;
+  STRATA_CHECK(false, Internal, "wave: the FEM frame has no point array {}", name);
+  return nullptr;
+}
+
+FramePair coupled_frames(const WaveModel& m, const fem::Mesh& mesh, const couple::FemPartition& fem,
+                         const couple::DemPartition& dem, std::int64_t system_step) {
+  const auto& ov = m.overlap;
+  const double t = fem.time();
+  FramePair f;
+  f.mesh = fem_frame(mesh, fem.solver().u(), fem.solver().v(), t, system_step);
+  f.particles = particle_frame(dem.simulation(), {"id", "displacement", "velocity"});
+  f.particles.time = t;
+  const auto ids = dem.simulation().ids();  // frame index -> particle id (= overlap index)
+  std::vector<std::size_t> index_of(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) index_of[ids[i]] = i;
+  io::Array ptag{"overlap", 1, std::vector<double>(ids.size()), io::ArrayType::UInt8};
+  for (std::size_t i = 0; i < ids.size(); ++i) ptag.values[i] = double(int(ov.particle_tag[ids[i]]));
+  io::Array ntag{"overlap", 1, std::vector<double>(ov.node_tag.size()), io::ArrayType::UInt8};
+  for (std::size_t n = 0; n < ov.node_tag.size(); ++n) ntag.values[n] = double(int(ov.node_tag[n]));
+  io::Array& pu = *f.particles.find("displacement");
+  io::Array& pv = *f.particles.find("velocity");
+  io::Array& mu = *point_array(f.mesh, "displacement");
+  io::Array& mv = *point_array(f.mesh, "velocity");
+  for (std::size_t k = 0; k < ov.pair_particle.size(); ++k) {
+    const std::uint32_t pi = ov.pair_particle[k], ni = ov.pair_node[k];
+    const std::size_t i = index_of[pi];
+    for (std::size_t a = 0; a < 2; ++a) {
+      if (ov.particle_tag[pi] == preprocess::OverlapTag::External) {  // DEM external <- FEM boundary
+        const double u = fem.displacement(2 * ni + a), v = fem.velocity(2 * ni + a);
+        pu.values[3 * i + a] = u;
+        pv.values[3 * i + a] = v;
+        f.particles.xyz[3 * i + a] = ov.particles.x[pi][a] + u;
+      } else {  // FEM external <- DEM boundary
+        mu.values[3 * ni + a] = dem.displacement(2 * pi + a);
+        mv.values[3 * ni + a] = dem.velocity(2 * pi + a);
+      }
+    }
+  }
+  f.particles.point_data.push_back(std::move(ptag));
+  f.mesh.point_data.push_back(std::move(ntag));
+  return f;
+}
+
+// The part of a frame pair within [lo, hi] along `axis` (particles by centre, triangles with
+// all three nodes inside), for a picture of the overlap.
+FramePair crop(const FramePair& in, int axis, double lo, double hi) {
+  FramePair out;
+  const io::PointCloud& p = in.particles;
+  out.particles.dim = p.dim;
+  out.particles.time = p.time;
+  out.particles.step = p.step;
+  for (const auto& a : p.point_data) out.particles.point_data.push_back({a.name, a.components, {}, a.type});
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = p.xyz[3 * i + std::size_t(axis)];
+    if (x < lo || x > hi) continue;
+    out.particles.xyz.insert(out.particles.xyz.end(), &p.xyz[3 * i], &p.xyz[3 * i] + 3);
+    for (std::size_t k = 0; k < p.point_data.size(); ++k) {
+      const auto& a = p.point_data[k];
+      const auto c = std::size_t(a.components);
+      out.particles.point_data[k].values.insert(out.particles.point_data[k].values.end(),
+                                                a.values.begin() + std::ptrdiff_t(i * c),
+                                                a.values.begin() + std::ptrdiff_t((i + 1) * c));
+    }
+  }
+  const io::MeshFrame& m = in.mesh;
+  io::MeshFrame& o = out.mesh;
+  o.dim = m.dim;
+  o.time = m.time;
+  o.step = m.step;
+  std::vector<std::int64_t> new_index(m.nodes(), -1);
+  auto inside = [&](std::int64_t n) {
+    const double x = m.xyz[3 * std::size_t(n) + std::size_t(axis)];
+    return x >= lo && x <= hi;
+  };
+  for (const auto& a : m.point_data) o.point_data.push_back({a.name, a.components, {}, a.type});
+  std::size_t first = 0;
+  for (std::size_t c = 0; c < m.cells(); ++c) {
+    const int npc = io::nodes_per_cell(m.cell_types[c]);
+    bool keep = true;
+    for (int k = 0; k < npc; ++k) keep = keep && inside(m.connectivity[first + std::size_t(k)]);
+    if (keep) {
+      o.cell_types.push_back(m.cell_types[c]);
+      for (int k = 0; k < npc; ++k) {
+        const auto n = std::size_t(m.connectivity[first + std::size_t(k)]);
+        if (new_index[n] < 0) {
+          new_index[n] = std::int64_t(o.nodes());
+          o.xyz.insert(o.xyz.end(), &m.xyz[3 * n], &m.xyz[3 * n] + 3);
+          for (std::size_t j = 0; j < m.point_data.size(); ++j) {
+            const auto& a = m.point_data[j];
+            const auto cc = std::size_t(a.components);
+            o.point_data[j].values.insert(o.point_data[j].values.end(),
+                                          a.values.begin() + std::ptrdiff_t(n * cc),
+                                          a.values.begin() + std::ptrdiff_t((n + 1) * cc));
+          }
+        }
+        o.connectivity.push_back(new_index[n]);
+      }
+    }
+    first += std::size_t(npc);
+  }
+  return out;
+}
+
+// Runs the coupled model for `steps` system steps, writing `ws.frames` evenly spaced frame
+// pairs (system steps 0 .. steps) into ws.dir and, with ws.pictures, PNGs of the pulse
+// crossing the overlap: its centre (c·(t − T/2) from the loaded side) 30 d before, on and
+// 30 d past the interface (embedded: on the first interface, in the middle of the strip, on
+// the second interface, 20 d past it), cropped around the overlap(s).
+void run_with_series(const WaveModel& m, const Plan& p, const WaveRun& r, couple::FemPartition& fem,
+                     couple::DemPartition& dem, couple::Coupler& cp, std::int64_t steps, WaveSeries& ws) {
+  const auto& ov = m.overlap;
+  const fem::Mesh mesh = fem_mesh(m);
+  io::Series ps(ws.dir, "particles"), fs(ws.dir, "fem");
+  std::map<std::int64_t, int> at;  // system step -> 1 frame, 2 picture, 3 both
+  for (int k = 0; k < ws.frames; ++k)
+    at[ws.frames == 1 ? 0 : std::llround(double(k) * double(steps) / double(ws.frames - 1))] |= 1;
+  const double D = m.dem_length;
+  const std::vector<double> centres = m.embedded ? std::vector<double>{0, D / 2, D, D + 20 * m.d}
+                                                 : std::vector<double>{-30 * m.d, 0, 30 * m.d};
+  if (ws.pictures)
+    for (double c : centres) {
+      const double t = (m.load_depth + c) / m.c + p.T / 2;
+      at[std::clamp<std::int64_t>(std::llround(t / r.dt_fem), 0, steps)] |= 2;
+    }
+  // picture window along the propagation axis: 60 d (embedded: 40 d) each side of the overlap(s)
+  double lo = ov.interface, hi = ov.interface;
+  for (const auto& g : ov.interfaces) lo = std::min(lo, g.coordinate), hi = std::max(hi, g.coordinate);
+  const double margin = (m.embedded ? 40 : 60) * m.d;
+  lo -= margin, hi += margin;
+  double width = 0;  // lateral extent
+  {
+    double a = HUGE_VAL, b = -HUGE_VAL;
+    for (std::size_t n = 0; n < ov.fem.node_count(); ++n)
+      a = std::min(a, ov.fem.node(n)[1 - ov.axis]), b = std::max(b, ov.fem.node(n)[1 - ov.axis]);
+    width = b - a;
+  }
+  io::RenderStyle style;
+  style.field = "velocity";
+  style.component = ov.axis;
+  style.field_scale = -ov.fem_side;  // along the propagation direction
+  style.field_label = "velocity along the wave";
+  style.unit = "m/s";
+  style.colormap = io::Colormap::CoolWarm;
+  style.range = std::array<double, 2>{-r.v0, r.v0};
+  style.width = 1800;
+  style.height = std::clamp(int(std::lround(1800 * width / (hi - lo))) + 300, 500, 1400);
+  style.title = fmt::format(
+      "coupled FEM-DEM wave{}: lambda = {:g} d, eta = {}; FEM mesh and particles, one "
+      "colour scale",
+      m.embedded ? " (FEM | DEM | FEM)" : "", r.lambda_d, r.eta);
+  std::int64_t done = 0;
+  int picture = 0;
+  for (const auto& [step, what] : at) {
+    cp.run(step - done);
+    done = step;
+    const FramePair f = coupled_frames(m, mesh, fem, dem, step);
+    if (what & 1) {
+      ps.add_particles(*f.particles.time, f.particles);
+      fs.add_mesh(*f.mesh.time, f.mesh);
+    }
+    if ((what & 2) && ws.pictures) {
+      const FramePair c = crop(f, ov.axis, lo, hi);
+      io::RenderRequest rq;
+      rq.particles = &c.particles;
+      rq.mesh = &c.mesh;
+      rq.style = style;
+      rq.png = ws.dir / "png" / fmt::format("crossing_{}.png", picture++);
+      try {
+        io::render_frame(rq);
+        ws.pngs.push_back(rq.png);
+      } catch (const Error& e) {
+        if (e.kind() != ErrorKind::Unsupported) throw;
+        log::warn("no pictures: {}", e.what());
+        ws.pictures = false;
+      }
+    }
+  }
+  cp.run(steps - done);
+}
+
 }  // namespace
 
 WaveModel build_wave_model(const WaveOptions& opt) {
@@ -122,15 +332,22 @@ WaveModel build_wave_model(const WaveOptions& opt) {
   STRATA_CHECK(opt.dt_fraction > 0 && opt.dt_fraction <= 1, Input,
                "wave: dt fraction {} must be in (0, 1] (of the lattice's critical step)", opt.dt_fraction);
   WaveModel m;
-  m.geometry =
-      opt.geometry.empty() ? fs::path(STRATA_SOURCE_DIR) / "examples/04_coupled_wave/wave.geo" : opt.geometry;
+  m.geometry = !opt.geometry.empty() ? opt.geometry
+                                     : fs::path(STRATA_SOURCE_DIR) /
+                                           (opt.embedded ? "examples/04_coupled_wave/wave_embedded.geo"
+                                                         : "examples/04_coupled_wave/wave.geo");
+  std::vector<std::string> fem_regions{opt.fem_region};
+  if (!opt.exit_region.empty())
+    fem_regions.push_back(opt.exit_region);
+  else if (opt.embedded)
+    fem_regions.push_back("fem_exit");
   preprocess::OverlapOptions oo;
   oo.kind = preprocess::LatticeKind::Hex2D;
   oo.d = opt.d;
   oo.far_size = opt.fem_far_size * opt.d;
   oo.growth = opt.fem_growth;
   const auto t0 = Clock::now();
-  m.overlap = preprocess::build_overlap(m.geometry, opt.particle_region, opt.fem_region, oo);
+  m.overlap = preprocess::build_overlap(m.geometry, opt.particle_region, fem_regions, oo);
   m.build_s = seconds_since(t0);
   STRATA_CHECK(m.overlap.dim == 2, Input, "wave: the geometry must be 2D");
   m.d = opt.d;
@@ -151,9 +368,19 @@ WaveModel build_wave_model(const WaveOptions& opt) {
   m.fem_elements = ov.fem.cell_count();
   for (std::size_t n = 0; n < ov.fem.node_count(); ++n)
     m.load_depth = std::max(m.load_depth, ov.depth(ov.fem.node(n)));
-  double dmin = 0;
-  for (const auto& p : ov.particles.x) dmin = std::min(dmin, ov.depth(p));
-  m.dem_length = -dmin + ov.particles.radius;
+  m.embedded = ov.interfaces.size() == 2;
+  if (m.embedded) {
+    // the strip between the two interfaces; the exit block beyond the second
+    const preprocess::OverlapInterface& g2 = ov.interfaces[1];
+    m.dem_length = std::abs(g2.coordinate - ov.interface);
+    for (std::size_t n = 0; n < ov.fem.node_count(); ++n)
+      m.exit_length = std::max(m.exit_length, g2.depth(ov.fem.node(n)));
+    m.exit_gauge_depth = m.exit_length / 3;
+  } else {
+    double dmin = 0;
+    for (const auto& p : ov.particles.x) dmin = std::min(dmin, ov.depth(p));
+    m.dem_length = -dmin + ov.particles.radius;
+  }
   m.fem_gauge_depth = m.load_depth / 2;
   // DEM gauge: the lattice column nearest a third of the particle block
   double best = std::numeric_limits<double>::infinity();
@@ -174,7 +401,7 @@ WaveModel build_wave_model(const WaveOptions& opt) {
 }
 
 WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, int eta, couple::Execution mode,
-                 const std::string& scheme) {
+                 const std::string& scheme, WaveSeries* series) {
   STRATA_CHECK(eta >= 1, Input, "wave: eta = {} must be an integer >= 1", eta);
   const Plan p = plan_of(m, opt, lambda_d);
   const auto& ov = m.overlap;
@@ -193,6 +420,8 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   r.t_inc = p.t_inc;
   r.t_ref = p.t_ref;
   r.t_tra = p.t_tra;
+  r.t_ref2 = p.t_ref2;
+  r.t_exit = p.t_exit;
   const std::int64_t steps = static_cast<std::int64_t>(std::ceil(p.t_end / r.dt_fem));
   r.duration = static_cast<double>(steps) * r.dt_fem;
 
@@ -256,22 +485,26 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
       });
     }
   }
-  // FEM gauge band: nodes within half an element of the gauge line
+  // FEM gauge bands: nodes within half an element of the gauge line (at `depth` from the
+  // interface `gi`, into its FEM block)
   const fem::Assembled& sys = solver.system();
-  std::vector<std::size_t> band;
-  std::vector<double> band_m;
-  {
-    const double h = std::min(opt.fem_far_size * m.d, m.d + opt.fem_growth * m.fem_gauge_depth);
+  auto gauge_band = [&](const preprocess::OverlapInterface& gi, double depth, std::vector<std::size_t>& band,
+                        std::vector<double>& band_m) {
+    const double h = std::min(opt.fem_far_size * m.d, m.d + opt.fem_growth * depth);
     for (double w = 0.5 * h; band.size() < 2; w *= 1.5) {
       band.clear();
       band_m.clear();
       for (std::uint32_t n = 0; n < ov.fem.node_count(); ++n)
-        if (std::abs(ov.depth(ov.fem.node(n)) - m.fem_gauge_depth) <= w) {
+        if (std::abs(gi.depth(ov.fem.node(n)) - depth) <= w) {
           band.push_back(2 * n + ax);
           band_m.push_back(sys.mass[static_cast<Eigen::Index>(2 * n + ax)]);
         }
     }
-  }
+  };
+  std::vector<std::size_t> band, exit_band;
+  std::vector<double> band_m, exit_m;
+  gauge_band(ov.interfaces[0], m.fem_gauge_depth, band, band_m);
+  if (m.embedded) gauge_band(ov.interfaces[1], m.exit_gauge_depth, exit_band, exit_m);
   couple::FemPartition fem(std::move(solver));
 
   // ---- overlap: one common id per coincident (particle, node) pair and axis ----
@@ -298,13 +531,16 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   couple::Coupler cp(fem, dem, couple::make_overlap(fem_ids, fem_roles, dem_ids, dem_roles), eta, mode);
 
   // ---- gauges ----
-  double msum = 0;
-  for (double mm : band_m) msum += mm;
+  auto band_velocity = [dir](const couple::Partition& f, const std::vector<std::size_t>& dofs,
+                             const std::vector<double>& mass) {
+    double s = 0, msum = 0;
+    for (std::size_t k = 0; k < dofs.size(); ++k) s += mass[k] * f.velocity(dofs[k]), msum += mass[k];
+    return dir * s / msum;
+  };
   cp.observe_fem([&](const couple::Partition& f) {
-    double s = 0;
-    for (std::size_t k = 0; k < band.size(); ++k) s += band_m[k] * f.velocity(band[k]);
     r.t_fem.push_back(f.time());
-    r.v_fem.push_back(dir * s / msum);
+    r.v_fem.push_back(band_velocity(f, band, band_m));
+    if (m.embedded) r.v_exit.push_back(band_velocity(f, exit_band, exit_m));
   });
   std::vector<std::size_t> column;
   for (std::uint32_t i = 0; i < ov.particles.size(); ++i)
@@ -327,7 +563,10 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   r.fem_steps = steps;
   r.dem_steps = steps * eta;
   try {
-    cp.run(steps);
+    if (series && series->frames > 0)
+      run_with_series(m, p, r, fem, dem, cp, steps, *series);
+    else
+      cp.run(steps);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Numerical) throw;
     r.status = std::string("blew up: ") + e.what();
@@ -351,12 +590,21 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   r.r_energy = ref.energy / inc.energy;
   r.t_peak = tra.peak / inc.peak;
   r.t_energy = tra.energy / inc.energy;
+  if (m.embedded) {
+    const WindowMeasure ref2 = measure(r.t_fem, r.v_fem, p.t_ref2 - kBefore * p.T, p.t_ref2 + kAfter * p.T);
+    const WindowMeasure ex = measure(r.t_fem, r.v_exit, p.t_exit - kBefore * p.T, p.t_exit + kAfter * p.T);
+    r.r2_peak = ref2.peak / inc.peak;
+    r.r2_energy = ref2.energy / inc.energy;
+    r.exit_peak = ex.peak / inc.peak;
+    r.exit_energy = ex.energy / inc.energy;
+  }
   // In a linear, matched set-up no gauge can see much more than the incident peak (at most
   // (1 + R)·v0 where pulses overlap). A gauge above 2·v0, or a non-finite value, means the
   // coupled exchange pumped energy in: the interface is unstable at this dt_FEM.
   double vmax = 0;
   for (double v : r.v_fem) vmax = std::isfinite(v) ? std::max(vmax, std::abs(v)) : HUGE_VAL;
   for (double v : r.v_dem) vmax = std::isfinite(v) ? std::max(vmax, std::abs(v)) : HUGE_VAL;
+  for (double v : r.v_exit) vmax = std::isfinite(v) ? std::max(vmax, std::abs(v)) : HUGE_VAL;
   if (!(vmax <= 2 * r.v0))
     r.status = fmt::format(
         "unstable: a gauge reached {:.3g} m/s = {:.3g} x v0 (dt_FEM = {:.3g} x the DEM critical step)", vmax,
@@ -393,6 +641,35 @@ std::string markdown_table(const std::vector<WaveRun>& rows, double dem_dt_crit)
   return s;
 }
 
+// FEM | DEM | FEM: both interfaces' reflections, the pulse in the strip and after it.
+std::string markdown_table_embedded(const std::vector<WaveRun>& rows, double dem_dt_crit) {
+  std::string s =
+      "| λ/d | η | mode | FEM integrator | dt_FEM (s) | dt_FEM / DEM limit | FEM steps | DEM steps | "
+      "incident peak "
+      "(m/s) | R at Γ1 (peak) | tail before R window | R2 at Γ2 (peak) | T1 in strip (peak) | T after Γ2 "
+      "(peak) "
+      "| R_E | R2_E | T_E after Γ2 | R_E + R2_E + T_E | wall time (ms) |\n"
+      "|---:|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+  for (const auto& r : rows) {
+    const double ratio = r.dt_fem / dem_dt_crit;
+    if (r.status != "ok") {
+      s += fmt::format("| {:g} | {} | {} | {} | {:.4g} | {:.3g} | {} | {} | – | {} | | | | | | | | | {} |\n",
+                       r.lambda_d, r.eta, couple::to_string(r.mode), r.fem_scheme, r.dt_fem, ratio,
+                       r.fem_steps, r.dem_steps, r.status.substr(0, r.status.find(':')),
+                       r.wall_s > 0 ? fmt::format("{:.1f}", 1e3 * r.wall_s) : "");
+      continue;
+    }
+    s += fmt::format(
+        "| {:g} | {} | {} | {} | {:.4g} | {:.3g} | {} | {} | {:.4f} | {:.2e} | {:.1e} | {:.2e} | {:.4f} | "
+        "{:.4f} | "
+        "{:.2e} | {:.2e} | {:.4f} | {:.4f} | {:.1f} |\n",
+        r.lambda_d, r.eta, couple::to_string(r.mode), r.fem_scheme, r.dt_fem, ratio, r.fem_steps, r.dem_steps,
+        r.incident, r.r_peak, r.floor, r.r2_peak, r.t_peak, r.exit_peak, r.r_energy, r.r2_energy,
+        r.exit_energy, r.r_energy + r.r2_energy + r.exit_energy, 1e3 * r.wall_s);
+  }
+  return s;
+}
+
 double scheme_code(const std::string& s) {
   return s == "central-difference" ? 0 : s == "explicit-newmark" ? 1 : 2;
 }
@@ -410,10 +687,17 @@ void plot_png(const io::PlotRequest& pr) {
 
 int wave_report_cmd(const WaveOptions& in) {
   WaveOptions opt = in;
+  if (opt.embedded && !opt.quick) {
+    if (opt.etas == WaveOptions{}.etas) opt.etas = {1, 2, 5};
+    if (opt.wavelengths == WaveOptions{}.wavelengths) opt.wavelengths = {20, 40};
+  }
   if (opt.quick) {
     opt.etas = {1, 5};
     opt.wavelengths = {20};
   }
+  if (opt.frames < 0) opt.frames = opt.quick ? 3 : 12;
+  STRATA_CHECK(opt.series_eta >= 1, Input, "report wave: --series-eta {} must be an integer >= 1",
+               opt.series_eta);
   for (int e : opt.etas) STRATA_CHECK(e >= 1, Input, "report wave: eta = {} must be an integer >= 1", e);
   STRATA_CHECK(opt.modes == "serial" || opt.modes == "parallel" || opt.modes == "both", Input,
                "report wave: --modes {} (serial, parallel or both)", opt.modes);
@@ -430,7 +714,7 @@ int wave_report_cmd(const WaveOptions& in) {
 
   const WaveModel m = build_wave_model(opt);
   for (double l : opt.wavelengths) (void)plan_of(m, opt, l);  // refuse a too long pulse before running
-  const std::string header = fmt::format(
+  const std::string header1 = fmt::format(
       "2D coupled wave (issue 6): {} ('{}' particles, '{}' FEM); {} particles of d = {:g} m (hex lattice, "
       "Kn = {:.4g} N/m, Ks = {:.4g} N/m, rho = {:g} kg/m^2), {} FEM nodes / {} linear triangles (plane "
       "stress, "
@@ -450,6 +734,16 @@ int wave_report_cmd(const WaveOptions& in) {
       m.rho, m.fem_nodes, m.fem_elements, m.E, m.nu, m.c, m.build_s, m.dt_dem, opt.dt_fraction, m.dem_dt_crit,
       m.fem_explicit_dt, opt.threads, opt.peak_velocity, m.fem_gauge_depth, m.load_depth, m.dem_gauge_depth,
       m.dem_length);
+  const std::string header =
+      header1 +
+      (m.embedded ? fmt::format("FEM | DEM | FEM: exit region '{}' beyond a particle strip of D = {:.4g} m "
+                                "({} row spacings); exit gauge {:.4g} m past the second interface (exit "
+                                "block {:.4g} m deep). R: first interface, R2: second (at the FEM gauge "
+                                "2D/c after R), T1: in the strip (DEM gauge), T: after both.\n",
+                                m.overlap.fem.group_names.back(), m.dem_length,
+                                std::lround(m.dem_length / m.overlap.layer_spacing), m.exit_gauge_depth,
+                                m.exit_length)
+                  : std::string());
   std::fputs(header.c_str(), stdout);
 
   std::vector<WaveRun> rows;
@@ -477,26 +771,62 @@ int wave_report_cmd(const WaveOptions& in) {
   fs::create_directories(opt.output);
   {
     io::CsvWriter csv(opt.output / "wave_sweep.csv",
-                      {"lambda_d", "eta", "mode", "fem_scheme", "ok", "dt_dem_s", "dt_fem_s", "fem_steps",
-                       "dem_steps", "v0_m_s", "incident_m_s", "R_peak", "tail_floor", "R_energy", "T_peak",
-                       "T_energy", "setup_s", "wall_s"});
+                      {"lambda_d",   "eta",       "mode",        "fem_scheme",   "ok",           "dt_dem_s",
+                       "dt_fem_s",   "fem_steps", "dem_steps",   "v0_m_s",       "incident_m_s", "R_peak",
+                       "tail_floor", "R_energy",  "T_peak",      "T_energy",     "setup_s",      "wall_s",
+                       "R2_peak",    "R2_energy", "T_exit_peak", "T_exit_energy"});
     for (const auto& r : rows)
-      csv.row({r.lambda_d, double(r.eta), r.mode == couple::Execution::Serial ? 0.0 : 1.0,
+      csv.row({r.lambda_d,
+               double(r.eta),
+               r.mode == couple::Execution::Serial ? 0.0 : 1.0,
                scheme_code(r.fem_scheme),
                r.status == "ok"                    ? 1.0
                : r.status.rfind("refused", 0) == 0 ? 0.0
                                                    : -1.0,
-               r.dt_dem, r.dt_fem, double(r.fem_steps), double(r.dem_steps), r.v0, r.incident, r.r_peak,
-               r.floor, r.r_energy, r.t_peak, r.t_energy, r.setup_s, r.wall_s});
+               r.dt_dem,
+               r.dt_fem,
+               double(r.fem_steps),
+               double(r.dem_steps),
+               r.v0,
+               r.incident,
+               r.r_peak,
+               r.floor,
+               r.r_energy,
+               r.t_peak,
+               r.t_energy,
+               r.setup_s,
+               r.wall_s,
+               r.r2_peak,
+               r.r2_energy,
+               r.exit_peak,
+               r.exit_energy});
     csv.close();
   }
   const std::string md =
-      header + "\n" + markdown_table(rows, m.dem_dt_crit) +
+      header + "\n" +
+      (m.embedded ? markdown_table_embedded(rows, m.dem_dt_crit) : markdown_table(rows, m.dem_dt_crit)) +
       "\nCSV codes: mode 0 serial, 1 parallel; fem_scheme 0 central-difference, 1 explicit-newmark, "
       "2 implicit-newmark; ok 1 = ok, 0 = refused by the coupler, -1 = unstable (a gauge above 2 v0) or blew "
       "up.\n";
   std::ofstream(opt.output / "wave_sweep.md") << md;
   std::fwrite(md.data() + header.size(), 1, md.size() - header.size(), stdout);
+
+  // VTK series (and pictures) of one representative run: serial, η = series_eta, the longest pulse
+  if (opt.frames > 0) {
+    WaveSeries ws;
+    ws.dir = opt.output / "series";
+    ws.frames = opt.frames;
+    ws.pictures = !opt.no_plot;
+    const double l = *std::max_element(opt.wavelengths.begin(), opt.wavelengths.end());
+    const WaveRun sr = run_wave(m, opt, l, opt.series_eta, couple::Execution::Serial, opt.fem_scheme, &ws);
+    if (sr.status != "ok")
+      log::warn("series run (lambda = {} d, eta = {}): {}", l, opt.series_eta, sr.status);
+    std::printf("\nseries: lambda = %g d, eta = %d, serial: %d frames in %s (particles.pvd, fem.pvd)", l,
+                opt.series_eta, opt.frames, ws.dir.string().c_str());
+    if (!ws.pngs.empty())
+      std::printf("; %zu pictures in %s", ws.pngs.size(), (ws.dir / "png").string().c_str());
+    std::printf("\n");
+  }
   if (opt.no_plot) return 0;
 
   io::PlotRequest pr;
@@ -513,6 +843,14 @@ int wave_report_cmd(const WaveOptions& in) {
         s.y.push_back(r.r_peak);
       }
     if (!s.x.empty()) pr.series.push_back(std::move(s));
+    if (!m.embedded) continue;
+    io::PlotSeries s2{fmt::format("lambda = {:g} d, second interface (R2)", l), {}, {}, true, true};
+    for (const auto& r : rows)
+      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.r2_peak > 0) {
+        s2.x.push_back(r.eta);
+        s2.y.push_back(r.r2_peak);
+      }
+    if (!s2.x.empty()) pr.series.push_back(std::move(s2));
   }
   plot_png(pr);
 
@@ -544,6 +882,20 @@ int wave_report_cmd(const WaveOptions& in) {
     d.y.push_back(g->v_dem[i]);
   }
   gp.series = {std::move(f), std::move(d), std::move(x)};
+  if (m.embedded) {
+    io::PlotSeries e{"exit FEM gauge: after both interfaces", {}, {}, false, true};
+    io::PlotSeries x2{"FEM gauge, second interface's window x 100", {}, {}, false, true};
+    for (std::size_t i = 0; i < g->t_fem.size(); ++i) {
+      e.x.push_back(1e6 * g->t_fem[i]);
+      e.y.push_back(g->v_exit[i]);
+      if (g->t_fem[i] >= g->t_ref2 - kBefore * g->pulse_T && g->t_fem[i] <= g->t_ref2 + kAfter * g->pulse_T) {
+        x2.x.push_back(1e6 * g->t_fem[i]);
+        x2.y.push_back(100 * g->v_fem[i]);
+      }
+    }
+    gp.series.push_back(std::move(e));
+    gp.series.push_back(std::move(x2));
+  }
   plot_png(gp);
   return 0;
 }

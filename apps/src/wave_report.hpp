@@ -27,10 +27,24 @@
 ///    enough for the windows not to overlap (checked). R = reflected/incident peak, R_E =
 ///    reflected/incident ∫v²dt; T and T_E likewise for the transmitted pulse (analytical
 ///    1D values for matched impedance: R = 0, T = 1, R_E + T_E = 1).
+///  - Embedded (FEM | DEM | FEM, `exit_region` or `embedded`): a second FEM block beyond the
+///    particle strip (examples/04_coupled_wave/wave_embedded.geo), coupled through a second
+///    overlap of the same lattice and mesh (one FEM and one DEM partition). The pulse enters
+///    the strip through the first overlap and leaves it through the second: R is the
+///    reflection at the first interface, R2 the second interface's (seen back at the FEM
+///    gauge once it has crossed the first one again, 2·D/c later, D the strip's length), T1
+///    the pulse in the strip (DEM gauge), T the pulse after both interfaces (a gauge band in
+///    the exit block, a third of the way in). Analytical: R = R2 = 0, T1 = T = 1.
+///  - Series (`frames` > 0): one extra run (serial, η = series_eta, the longest pulse) writes
+///    DIR/series/particles.pvd and fem.pvd with the same times, the state at the start of a
+///    system step after the overlap exchange (external sites hold the copied values), and
+///    PNGs of the pulse crossing the overlap (FEM mesh and particles coloured by the
+///    velocity along the wave, one colour range).
 #include <strata/couple/coupler.hpp>
 #include <strata/fem/solver.hpp>
 #include <strata/preprocess/overlap.hpp>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -42,9 +56,14 @@ struct WaveOptions {
   std::filesystem::path output = "out/wave";  ///< directory for wave_sweep.{csv,md,png}, wave_gauges.png
   std::filesystem::path geometry;             ///< empty: examples/04_coupled_wave/wave.geo
   std::string particle_region = "dem";        ///< physical surface filled with particles
-  std::string fem_region = "fem";             ///< physical surface meshed for the FEM
-  std::vector<int> etas{1, 2, 4, 5, 10};      ///< integer η >= 1
-  std::string modes = "both";                 ///< serial, parallel or both
+  std::string fem_region = "fem";             ///< physical surface meshed for the FEM (loaded)
+  /// Second FEM surface, beyond the particles (FEM | DEM | FEM); empty: none.
+  std::string exit_region;
+  /// FEM | DEM | FEM defaults: geometry examples/04_coupled_wave/wave_embedded.geo, exit region
+  /// "fem_exit", η ∈ {1, 2, 5}, λ ∈ {20, 40} d (η = 10, stable with one interface, is not with two).
+  bool embedded = false;
+  std::vector<int> etas{1, 2, 4, 5, 10};            ///< integer η >= 1
+  std::string modes = "both";                       ///< serial, parallel or both
   std::vector<double> wavelengths{10, 20, 40, 80};  ///< pulse length c·T in particle diameters
   double d = 1e-3;                                  ///< particle diameter (m)
   /// dt_DEM / (2/√λmax of the hex lattice). 0.15 keeps dt_FEM = η·dt_DEM <= 1.5 x the DEM
@@ -63,6 +82,17 @@ struct WaveOptions {
   int threads = 1;
   bool quick = false;  ///< η ∈ {1, 5}, λ = 20 d, serial and parallel (CTest)
   bool no_plot = false;
+  /// Frames of the VTK series of one extra run (DIR/series); 0: none; -1: 12 (3 with quick).
+  int frames = -1;
+  int series_eta = 1;  ///< η of the series run (serial, the longest pulse)
+};
+
+/// VTK series and pictures of one run (run_wave writes them when given one).
+struct WaveSeries {
+  std::filesystem::path dir;                ///< particles.pvd, fem.pvd and their frames; PNGs in dir/png
+  int frames = 0;                           ///< evenly spaced system steps from 0 to the end, both included
+  bool pictures = true;                     ///< render PNGs of the pulse crossing the overlap
+  std::vector<std::filesystem::path> pngs;  ///< written pictures (out)
 };
 
 /// Everything built once from the geometry.
@@ -70,13 +100,18 @@ struct WaveModel {
   std::filesystem::path geometry;
   preprocess::OverlapModel overlap;
   double d = 0;
-  double kn = 0, ks = 0, rho = 0;         ///< lattice (N/m, N/m, kg/m²)
-  double E = 0, nu = 0, c = 0;            ///< FEM plane stress (Pa, -), long-wave P speed (m/s)
-  double dt_dem = 0;                      ///< DEM step (s)
-  double dem_dt_crit = 0;                 ///< 2/√λmax of the infinite hex lattice (s), >= libdem's own
-  double fem_explicit_dt = 0;             ///< FEM explicit limit, rollers and overlap externals held (s)
-  double fem_length = 0, dem_length = 0;  ///< extents along the propagation axis (m)
-  double load_depth = 0;                  ///< depth of the loaded FEM side (m)
+  double kn = 0, ks = 0, rho = 0;  ///< lattice (N/m, N/m, kg/m²)
+  double E = 0, nu = 0, c = 0;     ///< FEM plane stress (Pa, -), long-wave P speed (m/s)
+  double dt_dem = 0;               ///< DEM step (s)
+  double dem_dt_crit = 0;          ///< 2/√λmax of the infinite hex lattice (s), >= libdem's own
+  double fem_explicit_dt = 0;      ///< FEM explicit limit, rollers and overlap externals held (s)
+  double fem_length = 0;
+  /// Particle block's extent along the propagation axis (m); embedded: the strip's length D
+  /// between the two interfaces.
+  double dem_length = 0;
+  bool embedded = false;  ///< a second FEM block beyond the particles (overlap.interfaces[1])
+  double exit_length = 0, exit_gauge_depth = 0;     ///< exit block's depth, its gauge's from Γ2 (m)
+  double load_depth = 0;                            ///< depth of the loaded FEM side (m)
   double fem_gauge_depth = 0, dem_gauge_depth = 0;  ///< distances of the gauges from Γ (m)
   double build_s = 0;                               ///< preprocess time (s)
   std::size_t particles = 0, fem_nodes = 0, fem_elements = 0;
@@ -101,10 +136,16 @@ struct WaveRun {
   double r_energy = 0;  ///< ∫v² reflected / ∫v² incident (FEM gauge)
   double t_peak = 0;    ///< max |v| at the DEM gauge / incident peak
   double t_energy = 0;  ///< ∫v² transmitted (DEM gauge) / ∫v² incident (FEM gauge)
-  double setup_s = 0;   ///< building both partitions, coupler set-up and stability checks (s)
-  double wall_s = 0;    ///< set-up + coupled run, fastest of `repeats` (s)
+  /// Embedded only (NaN otherwise): the second interface's reflection at the FEM gauge
+  /// (peak, energy) and the pulse after both interfaces at the exit gauge (peak, energy).
+  double r2_peak = std::nan(""), r2_energy = std::nan("");
+  double exit_peak = std::nan(""), exit_energy = std::nan("");
+  double setup_s = 0;  ///< building both partitions, coupler set-up and stability checks (s)
+  double wall_s = 0;   ///< set-up + coupled run, fastest of `repeats` (s)
   std::vector<double> t_fem, v_fem, t_dem, v_dem;       ///< gauge signals
+  std::vector<double> v_exit;                           ///< exit gauge (embedded), at t_fem
   double t_inc = 0, t_ref = 0, t_tra = 0, pulse_T = 0;  ///< arrival times, pulse duration (s)
+  double t_ref2 = 0, t_exit = 0;                        ///< embedded: R2 and exit arrivals (s)
   std::uint64_t dem_hash = 0;                           ///< libdem state hash at the end
   std::vector<double> fem_u;                            ///< FEM displacement at the end
 };
@@ -112,8 +153,9 @@ struct WaveRun {
 /// Runs one point. `scheme` "auto" picks central difference when η·dt_DEM is below the FEM
 /// explicit limit and implicit Newmark otherwise. A point the coupler refuses (an explicit
 /// FEM above its limit) comes back with status "refused: ...".
+/// With `series`, also writes its VTK series and pictures (the wall time then includes them).
 WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, int eta, couple::Execution mode,
-                 const std::string& scheme);
+                 const std::string& scheme, WaveSeries* series = nullptr);
 
 /// `strata report wave`: the sweep over wavelengths, η and modes; writes wave_sweep.csv,
 /// wave_sweep.md, wave_sweep.png and wave_gauges.png. Returns the exit status.

@@ -17,6 +17,12 @@
 /// boundary); the FEM mesh (gmsh) covers the FEM region exactly, has a node at every
 /// overlap site (bit for bit the site's coordinates), no node strictly between the two
 /// layers, element size d at Γ, and grows linearly away from it. See docs/preprocess.md.
+///
+/// A particle box may also lie between two FEM boxes (FEM | DEM | FEM: a particle strip
+/// embedded in an FEM block): one overlap per shared face, both interfaces normal to the
+/// same axis, on opposite sides of the particle box. The result is still one lattice, one
+/// FEM mesh (one element group per FEM box) and one set of tags and coincidence pairs, so
+/// the coupling needs a single FEM and a single DEM partition.
 #include <strata/preprocess/fill.hpp>
 #include <strata/preprocess/mesh.hpp>
 
@@ -42,13 +48,27 @@ struct OverlapOptions {
   double growth = 0.5;  ///< FEM element size grows by this much per metre away from Γ (> 0)
 };
 
+/// One interface Γ: the face a particle box shares with one FEM box.
+struct OverlapInterface {
+  int axis = 1;           ///< normal axis of Γ (0: x, 1: y, 2: z)
+  double coordinate = 0;  ///< coordinate of Γ along `axis` (on a lattice row / layer)
+  int fem_side = 1;       ///< +1 when this FEM box lies at larger `axis` coordinates, else -1
+  int fem_group = 0;      ///< element group of this FEM box in OverlapModel::fem
+
+  /// Signed distance of p from Γ, positive towards this interface's FEM box.
+  double depth(const Vec3& p) const { return fem_side * (p[axis] - coordinate); }
+};
+
 /// Particles, FEM mesh and the coincidence of their overlap sites.
 struct OverlapModel {
   int dim = 2;
+  /// The first interface (interfaces[0]), kept as plain members for the one-interface case.
   int axis = 1;              ///< normal axis of Γ (0: x, 1: y, 2: z)
   double interface = 0;      ///< coordinate of Γ along `axis`
   int fem_side = 1;          ///< +1 when the FEM region lies at larger `axis` coordinates, else -1
   double layer_spacing = 0;  ///< distance between the two overlap layers: d·√3/2 or d·√(2/3)
+  /// Every interface, in the order of the FEM boxes given (1 or 2; all normal to `axis`).
+  std::vector<OverlapInterface> interfaces;
 
   Lattice particles;                     ///< DEM particles: the particle region's side, layer 0, layer 1
   std::vector<OverlapTag> particle_tag;  ///< per particle
@@ -56,10 +76,12 @@ struct OverlapModel {
   std::vector<OverlapTag> node_tag;      ///< per FEM node
 
   /// Coincidence pairs, one per overlap site (both layers): particle pair_particle[k] sits
-  /// exactly on FEM node pair_node[k]. Sorted by particle index.
+  /// exactly on FEM node pair_node[k], at interface pair_interface[k] (index into
+  /// `interfaces`). Sorted by particle index.
   std::vector<std::uint32_t> pair_particle, pair_node;
+  std::vector<std::uint8_t> pair_interface;
 
-  /// Signed distance of p from Γ, positive towards the FEM region.
+  /// Signed distance of p from the first Γ, positive towards its FEM region.
   double depth(const Vec3& p) const { return fem_side * (p[axis] - interface); }
 };
 
@@ -78,5 +100,24 @@ OverlapModel build_overlap(const Shape& particle_box, const Shape& fem_box, cons
 /// relative), besides the errors above and those of read_geometry.
 OverlapModel build_overlap(const std::filesystem::path& file, const std::string& particle_region,
                            const std::string& fem_region, const OverlapOptions& opt);
+
+/// Overlaps of a particle box with one or two FEM boxes (FEM | DEM | FEM), each sharing a
+/// whole face with the particle box, all these faces normal to one axis (z in 3D) and on
+/// opposite sides of the particle box. The lattice has a row / layer on the first
+/// interface; with two, the particle box's depth between them must be a whole number n >= 2
+/// of layer spacings (within 1e-6·d; the second FEM box's face is then moved onto the
+/// lattice row, by at most that much). The FEM mesh has one element group per FEM box, in
+/// the order given ("fem" for a single box, else "fem0", "fem1"); interfaces[k] belongs to
+/// fem_boxes[k]. Throws Error(Input) for no FEM box or more than two, two FEM boxes on the
+/// same side or on different axes, a depth that is not a whole number of layer spacings,
+/// besides the errors of the one-box form.
+OverlapModel build_overlap(const Shape& particle_box, const std::vector<Shape>& fem_boxes,
+                           const OverlapOptions& opt);
+
+/// The same for regions of a geometry file: the particle region and one or two FEM regions
+/// (e.g. examples/04_coupled_wave/wave_embedded.geo: "fem" | "dem" | "fem_exit"); the FEM
+/// mesh's element groups are named after the FEM regions.
+OverlapModel build_overlap(const std::filesystem::path& file, const std::string& particle_region,
+                           const std::vector<std::string>& fem_regions, const OverlapOptions& opt);
 
 }  // namespace strata::preprocess
