@@ -63,33 +63,58 @@ scene::Scene load_scene(const SceneOptions& opt) {
   return sc;
 }
 
-json model_json(const BuiltModel& m, const scene::Scene& sc) {
+/// What every model report holds: scene, regions, groups (`strata check`, `run`, `mesh`).
+json model_counts_json(const scene::Scene& sc, int dim, const std::vector<RegionInfo>& regions_in,
+                       const std::map<std::string, std::size_t>& groups_in) {
   json regions = json::array();
-  for (const auto& r : m.regions)
+  for (const auto& r : regions_in)
     regions.push_back({{"name", r.name},
                        {"lattice", r.lattice},
                        {"particles", r.particles},
                        {"diameter_m", r.diameter},
                        {"packing_density", r.packing}});
   json groups = json::object();
-  for (const auto& [name, n] : m.groups) groups[name] = n;
+  for (const auto& [name, n] : groups_in) groups[name] = n;
   return {{"scene", sc.file.string()},
           {"title", sc.table("scene").str("title")},
-          {"dimension", m.dim},
+          {"dimension", dim},
           {"regions", regions},
-          {"groups", groups},
-          {"particles", m.sim.particle_count()},
-          {"bonds", m.sim.bond_count()},
-          {"fem_nodes", 0},
-          {"fem_elements", 0},
-          {"memory_bytes", m.sim.memory_bytes()},
-          {"dt_s", m.dt},
-          {"dt_automatic", m.dt_automatic},
-          {"dt_crit_s", m.dt_crit},
-          {"dt_over_dt_crit", m.dt / m.dt_crit},
-          {"steps", m.steps},
-          {"simulated_time_s", double(m.steps) * m.dt},
-          {"threads", par::threads()}};
+          {"groups", groups}};
+}
+
+json model_json(const BuiltModel& m, const scene::Scene& sc) {
+  json j = model_counts_json(sc, m.dim, m.regions, m.groups);
+  j.update({{"particles", m.sim.particle_count()},
+            {"bonds", m.sim.bond_count()},
+            {"fem_nodes", 0},
+            {"fem_elements", 0},
+            {"memory_bytes", m.sim.memory_bytes()},
+            {"dt_s", m.dt},
+            {"dt_automatic", m.dt_automatic},
+            {"dt_crit_s", m.dt_crit},
+            {"dt_over_dt_crit", m.dt / m.dt_crit},
+            {"steps", m.steps},
+            {"simulated_time_s", double(m.steps) * m.dt},
+            {"threads", par::threads()}});
+  return j;
+}
+
+/// `strata mesh`'s report of a model description: counts only, no DEM quantities (dt_crit,
+/// dt, memory of the model arrays are `strata check`'s, which builds the DEM model).
+json description_json(const ModelDescription& d, const scene::Scene& sc, std::size_t bonds) {
+  std::map<std::string, std::size_t> groups;
+  for (const auto& g : d.groups) groups[g.name] = g.count;
+  json j = model_counts_json(sc, d.dim, d.regions, groups);
+  json fem = json::array();
+  for (const auto& f : d.fem)
+    fem.push_back({{"name", f.name}, {"nodes", f.mesh.node_count()}, {"elements", f.mesh.cell_count()}});
+  j.update({{"particles", d.particle_count()},
+            {"bonds", bonds},
+            {"fem_nodes", d.fem_nodes()},
+            {"fem_elements", d.fem_elements()},
+            {"fem_regions", fem},
+            {"threads", par::threads()}});
+  return j;
 }
 
 void print_model(const json& j) {
@@ -107,6 +132,10 @@ void print_model(const json& j) {
   std::printf("particles    %zu\nbonds        %zu\nFEM          %zu nodes, %zu elements\n",
               j["particles"].get<std::size_t>(), j["bonds"].get<std::size_t>(),
               j["fem_nodes"].get<std::size_t>(), j["fem_elements"].get<std::size_t>());
+  for (const auto& f : j.value("fem_regions", json::array()))
+    std::printf("FEM region   %-14s %zu nodes, %zu elements\n", f["name"].get<std::string>().c_str(),
+                f["nodes"].get<std::size_t>(), f["elements"].get<std::size_t>());
+  if (!j.contains("dt_s")) return;  // `strata mesh`: no DEM model built
   std::printf("memory       %.1f MB (model arrays)\n", j["memory_bytes"].get<double>() / 1e6);
   std::printf("dt_crit      %.4g s\n", j["dt_crit_s"].get<double>());
   std::printf("dt           %.4g s%s  (dt/dt_crit = %.3f)\n", j["dt_s"].get<double>(),
@@ -634,20 +663,43 @@ int mesh_scene(const SceneOptions& opt, bool json_out) {
                "{}: a coupled-chain scene ([coupled]) has no mesh to build; use 'strata check' for its "
                "stability numbers or 'strata run' for the sweep",
                sc.file.string());
-  const BuiltModel m = build_model(sc, /*force=*/true);
-  json j = model_json(m, sc);
-  j["seconds"] = m.build_seconds;
-  j["particles_per_s"] = m.build_seconds > 0 ? double(m.sim.particle_count()) / m.build_seconds : 0.0;
+  // The model as a description only (never a dem::Simulation): regions filled, FEM regions
+  // meshed, bonds counted on a cell grid by length class (regular regions; never stored).
+  const auto t0 = std::chrono::steady_clock::now();
+  const ModelDescription d = describe_model(sc, /*allow_fem=*/true);
+  const preprocess::PairCounts bonds = count_bonds(d);
+  const double seconds = seconds_since(t0);
+  json j = description_json(d, sc, bonds.pairs);
+  j["seconds"] = seconds;
+  j["particles_per_s"] = seconds > 0 ? double(d.particle_count()) / seconds : 0.0;
   // Bond counts by length class (length / d, classes 0.02 wide): one class for a regular
   // lattice, a spread for an eccentric one (SPEC C4).
-  const double d_ref = m.regions.empty() ? 0.0 : m.regions.front().diameter;
-  const BondStats bonds = bond_stats(m.sim, d_ref);
-  if (!bonds.length.empty()) j["bond_length_classes"] = bond_length_classes(bonds);
+  if (bonds.pairs > 0) j["bond_length_classes"] = bond_length_classes(bonds);
   if (!opt.output.empty()) {
-    io::Series particles(opt.output, "model");
-    const io::PointCloud pc = particle_frame(m.sim, {"id", "group"});
-    j["written"] = json::array({particles.add_particles(0.0, pc).string()});
-    for (const auto& f : write_bond_histograms(bonds, opt.output)) j["written"].push_back(f.string());
+    // Particles: all of them up to kMaxWrittenParticles, else the surface (or none).
+    const std::size_t n = d.particle_count();
+    std::vector<std::uint32_t> ids;
+    std::string which = "all";
+    if (n <= kMaxWrittenParticles) {
+      ids.resize(n);
+      for (std::size_t i = 0; i < n; ++i) ids[i] = std::uint32_t(i);
+    } else {
+      ids = surface_particles(d);
+      which = "surface";
+      if (ids.size() > kMaxWrittenParticles) ids.clear(), which = "none";
+    }
+    j["written"] = json::array();
+    j["written_particles"] = {{"selection", which}, {"count", ids.size()}};
+    if (!ids.empty()) {
+      io::Series particles(opt.output, "model");
+      j["written"].push_back(particles.add_particles(0.0, description_particles(d, ids)).string());
+    }
+    if (!d.fem.empty()) {
+      io::Series fem(opt.output, "fem");
+      j["written"].push_back(fem.add_mesh(0.0, description_fem(d)).string());
+    }
+    for (const auto& f : write_bond_histograms(bond_stats(d, bonds.pairs), opt.output))
+      j["written"].push_back(f.string());
   }
   j["peak_rss_bytes"] = sys::peak_rss_bytes();
   if (json_out) {
@@ -659,11 +711,14 @@ int mesh_scene(const SceneOptions& opt, bool json_out) {
       for (const auto& [cls, n] : j["bond_length_classes"].items())
         std::printf("  %s: %zu", cls.c_str(), n.get<std::size_t>());
       std::printf("\n");
-    } else if (m.sim.bond_count() > 0) {
-      std::printf("bond lengths not listed: more than %zu bonds\n", kMaxReportedBonds);
     }
-    std::printf("built in     %.3f s (%.3g particles/s), peak memory %.1f MB\n", m.build_seconds,
+    std::printf("built in     %.3f s (%.3g particles/s), peak memory %.1f MB\n", seconds,
                 j["particles_per_s"].get<double>(), j["peak_rss_bytes"].get<double>() / 1e6);
+    std::printf("DEM          dt_crit and model memory: see 'strata check' (it builds the DEM model)\n");
+    if (j.contains("written_particles") && j["written_particles"]["selection"] != "all")
+      std::printf("particles    %zu > %zu: wrote %s particles only (%zu)\n", d.particle_count(),
+                  kMaxWrittenParticles, j["written_particles"]["selection"].get<std::string>().c_str(),
+                  j["written_particles"]["count"].get<std::size_t>());
     if (j.contains("written"))
       for (const auto& w : j["written"]) std::printf("wrote        %s\n", w.get<std::string>().c_str());
   }

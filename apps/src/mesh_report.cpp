@@ -15,34 +15,101 @@ namespace strata::app {
 
 namespace fs = std::filesystem;
 
-BondStats bond_stats(const dem::Simulation& sim, double d_ref) {
+BondStats bond_stats(const ModelDescription& d, std::size_t bonds) {
   BondStats s;
-  s.d_ref = d_ref;
-  if (sim.bond_count() > kMaxReportedBonds || sim.bond_count() == 0) return s;
-  const auto pos = sim.positions();
-  const auto bonds = sim.bonds();
-  s.length.reserve(bonds.size());
-  s.azimuth.reserve(bonds.size());
-  for (const auto& b : bonds) {
-    const auto &p = pos[b.i], &q = pos[b.j];
-    const double dx = q[0] - p[0], dy = q[1] - p[1], dz = q[2] - p[2];
-    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    s.length.push_back(len);
-    double az = std::atan2(dy, dx) * 180 / M_PI;
-    if (az < 0) az += 180;
-    if (az >= 180) az -= 180;
-    s.azimuth.push_back(az);
-    if (sim.dim() == 3) s.polar.push_back(std::acos(std::min(1.0, std::abs(dz) / len)) * 180 / M_PI);
+  s.d_ref = d.regions.empty() ? 0.0 : d.regions.front().diameter;
+  if (bonds > kMaxReportedBonds || bonds == 0) return s;
+  s.length.reserve(bonds);
+  s.azimuth.reserve(bonds);
+  const auto add = [&](const preprocess::Lattice& l, const preprocess::BondList& b) {
+    std::vector<double> az, polar;
+    preprocess::bond_directions(l, b, az, polar);
+    s.length.insert(s.length.end(), b.length.begin(), b.length.end());
+    s.azimuth.insert(s.azimuth.end(), az.begin(), az.end());
+    s.polar.insert(s.polar.end(), polar.begin(), polar.end());
+  };
+  if (d.bonds_across_regions && d.sites.size() > 1) {
+    // Bonds between regions too: list them over all sites, as one lattice.
+    preprocess::Lattice all;
+    all.dim = d.dim;
+    for (const auto& r : d.sites) all.x.insert(all.x.end(), r.sites.x.begin(), r.sites.x.end());
+    add(all, preprocess::touching_pairs(d.lattices()));
+    return s;
   }
+  for (const auto& r : d.sites) add(r.sites, r.eccentric ? r.bonds : preprocess::touching_pairs(r.sites));
   return s;
 }
 
-nlohmann::json bond_length_classes(const BondStats& s, double width) {
-  std::map<long, std::size_t> classes;
-  for (double len : s.length) ++classes[std::lround(len / s.d_ref / width)];
+nlohmann::json bond_length_classes(const preprocess::PairCounts& c) {
   nlohmann::json j = nlohmann::json::object();
-  for (const auto& [k, n] : classes) j[fmt::format("{:.2f}", double(k) * width)] = n;
+  for (std::size_t k = 0; k < c.by_class.size(); ++k)
+    if (c.by_class[k] > 0) j[fmt::format("{:.2f}", double(k) * c.width)] = c.by_class[k];
   return j;
+}
+
+io::PointCloud description_particles(const ModelDescription& d, const std::vector<std::uint32_t>& ids) {
+  io::PointCloud pc;
+  pc.dim = d.dim;
+  pc.time = 0.0;
+  pc.step = 0;
+  pc.xyz.reserve(ids.size() * 3);
+  io::Array radius{std::string(io::kRadiusArray), 1, {}, io::ArrayType::Float64};
+  io::Array id{"id", 1, {}, io::ArrayType::Int64};
+  radius.values.reserve(ids.size());
+  id.values.reserve(ids.size());
+  std::size_t k = 0;  // region of the current id (ids ascending)
+  for (std::uint32_t i : ids) {
+    while (i >= d.sites[k].first_id + d.sites[k].sites.size()) ++k;
+    const auto& x = d.sites[k].sites.x[i - d.sites[k].first_id];
+    pc.xyz.insert(pc.xyz.end(), x.begin(), x.end());
+    radius.values.push_back(d.regions[k].diameter / 2);
+    id.values.push_back(double(i));
+  }
+  // Group bits: bit b for the b-th group name, found by binary search in the ascending ids.
+  std::vector<std::uint32_t> bits(ids.size(), 0);
+  std::vector<std::string> names;
+  for (const auto& g : d.groups) {
+    auto it = std::find(names.begin(), names.end(), g.name);
+    if (it == names.end()) it = names.insert(names.end(), g.name);
+    const std::uint32_t bit = 1u << (it - names.begin());
+    if (g.region >= 0) {
+      const auto& s = d.sites[std::size_t(g.region)];
+      const auto lo = std::lower_bound(ids.begin(), ids.end(), s.first_id);
+      const auto hi = std::lower_bound(ids.begin(), ids.end(), s.first_id + std::uint32_t(g.count));
+      for (auto at = lo; at != hi; ++at) bits[std::size_t(at - ids.begin())] |= bit;
+    } else {
+      for (std::uint32_t member : g.ids) {
+        const auto at = std::lower_bound(ids.begin(), ids.end(), member);
+        if (at != ids.end() && *at == member) bits[std::size_t(at - ids.begin())] |= bit;
+      }
+    }
+  }
+  io::Array group{"group", 1, {bits.begin(), bits.end()}, io::ArrayType::Int64};
+  pc.point_data = {std::move(radius), std::move(id), std::move(group)};
+  return pc;
+}
+
+io::MeshFrame description_fem(const ModelDescription& d) {
+  io::MeshFrame f;
+  f.dim = d.dim;
+  f.time = 0.0;
+  f.step = 0;
+  io::Array region{"region", 1, {}, io::ArrayType::Int32};
+  for (std::size_t r = 0; r < d.fem.size(); ++r) {
+    const preprocess::SimplexMesh& m = d.fem[r].mesh;
+    const auto base = std::int64_t(f.nodes());
+    for (std::size_t i = 0; i < m.node_count(); ++i) f.xyz.insert(f.xyz.end(), {m.x[i], m.y[i], m.z[i]});
+    const io::CellType type = m.dim == 3 ? io::CellType::Tetra : io::CellType::Triangle;
+    const auto npc = std::size_t(m.nodes_per_cell());
+    for (std::size_t e = 0; e < m.cell_count(); ++e) {
+      f.cell_types.push_back(type);
+      for (std::size_t k = 0; k < npc; ++k)
+        f.connectivity.push_back(base + std::int64_t(m.cells[e * npc + k]));
+      region.values.push_back(double(r));
+    }
+  }
+  f.cell_data.push_back(std::move(region));
+  return f;
 }
 
 namespace {

@@ -1,13 +1,16 @@
 #pragma once
-/// What `strata mesh` reports about a built model beyond counts: bond counts by length
-/// class, and bond length and direction histograms (CSV and PNG) that show the spread of
-/// an eccentric lattice (ECC4D, SPEC C4).
-#include <strata/dem/simulation.hpp>
+/// What `strata mesh` reports about a model description beyond counts: bond counts by
+/// length class, bond length and direction histograms (CSV and PNG) that show the spread
+/// of an eccentric lattice (ECC4D, SPEC C4), and the particles and FEM meshes as VTK files.
+#include <strata/io/frame.hpp>
+#include <strata/preprocess/ecc.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <vector>
+
+#include "model_builder.hpp"
 
 namespace strata::app {
 
@@ -19,15 +22,29 @@ struct BondStats {
   std::vector<double> polar;    ///< 3D: angle to the z axis, [0, 90] degrees
 };
 
-/// Bonds above this count are not listed one by one for the report (memory).
+/// Bonds above this count are not listed one by one for the histograms (memory).
 inline constexpr std::size_t kMaxReportedBonds = 20'000'000;
 
-/// Lengths and directions of the model's bonds (empty above kMaxReportedBonds bonds).
-BondStats bond_stats(const dem::Simulation& sim, double d_ref);
+/// Models above this many particles are written as their surface particles only (or none,
+/// when even the surface holds more): `strata mesh -o` never writes 100 M points.
+inline constexpr std::size_t kMaxWrittenParticles = 5'000'000;
 
-/// Bond counts by length class: classes of width `width`·d_ref centred on multiples of it,
-/// as {"1.00": n, "1.02": n, ...} keyed by length / d_ref.
-nlohmann::json bond_length_classes(const BondStats& s, double width = 0.02);
+/// Lengths and directions of the bonds build_model would make (listed region by region or
+/// for all regions together, as the model bonds them); empty when `bonds` (their count)
+/// is above kMaxReportedBonds or 0.
+BondStats bond_stats(const ModelDescription& d, std::size_t bonds);
+
+/// Bond counts by length class: {"1.00": n, "1.02": n, ...} keyed by length / d_ref,
+/// classes of width c.width·d_ref centred on its multiples; empty classes are left out.
+nlohmann::json bond_length_classes(const preprocess::PairCounts& c);
+
+/// The particles with ids `ids` (ascending) as points: radius, id and group (bit k for
+/// the k-th group of d.groups, as dem::Simulation::group_bits numbers them).
+io::PointCloud description_particles(const ModelDescription& d, const std::vector<std::uint32_t>& ids);
+
+/// The FEM regions' meshes as one unstructured grid (triangles or tetrahedra), with the
+/// cell array `region` (index into d.fem).
+io::MeshFrame description_fem(const ModelDescription& d);
 
 /// Writes bond_lengths.csv and bond_directions.csv into `dir`, and the matching PNG plots
 /// when this build renders (a failed plot is a warning); returns the files written.

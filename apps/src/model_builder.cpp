@@ -67,6 +67,7 @@ struct Filled {
   std::optional<preprocess::GeometryRegion> region;
   std::optional<preprocess::RegionFill> fill;  ///< shape = "file": the lattice and its entity ranges
   const Lattice& lattice() const { return fill ? fill->lattice : shape_lattice; }
+  Lattice& lattice() { return fill ? fill->lattice : shape_lattice; }
 };
 
 /// Fills a shape = "file" region; geometry files are read once per path.
@@ -126,7 +127,185 @@ std::vector<std::uint32_t> select(const scene::Table& g, const Filled& f) {
 }
 
 double platen_distance(const BuiltModel& m);
+
+/// Drops a lattice's rows and layers (the groups are selected): the sites keep positions only.
+void drop_rows(Lattice& l) {
+  std::vector<std::int32_t>().swap(l.row);
+  std::vector<std::int32_t>().swap(l.layer);
+}
+
+/// FEM mesh of a kind = "fem" region: the geometry file's physical group, or the shape.
+preprocess::SimplexMesh mesh_fem(const scene::Table& r, int dim) {
+  const double size = r.real("mesh_size");
+  if (r.str("shape") == "file") {
+    preprocess::FemMeshOptions o;
+    o.size = size;
+    return preprocess::mesh_fem_region(r.str("file"), r.str("physical"), dim, o);
+  }
+  return preprocess::mesh_fem_shape(shape_of(r, dim), size);
+}
 }  // namespace
+
+std::size_t ModelDescription::particle_count() const {
+  std::size_t n = 0;
+  for (const auto& s : sites) n += s.sites.size();
+  return n;
+}
+std::size_t ModelDescription::fem_nodes() const {
+  std::size_t n = 0;
+  for (const auto& f : fem) n += f.mesh.node_count();
+  return n;
+}
+std::size_t ModelDescription::fem_elements() const {
+  std::size_t n = 0;
+  for (const auto& f : fem) n += f.mesh.cell_count();
+  return n;
+}
+std::vector<const Lattice*> ModelDescription::lattices() const {
+  std::vector<const Lattice*> out;
+  for (const auto& s : sites) out.push_back(&s.sites);
+  return out;
+}
+
+ModelDescription describe_model(const scene::Scene& sc, bool allow_fem) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const scene::Table& st = sc.table("scene");
+  const int dim = int(st.integer("dimension"));
+  ModelDescription d;
+  d.dim = dim;
+
+  // Regions: fill each shape with its lattice; keep each region's regular lattice (rows,
+  // layers) until the groups are selected from it.
+  std::vector<Filled> filled;
+  std::map<std::string, std::size_t> region_index;  // groups visit regions by name
+  std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
+  std::uint32_t next_id = 0;
+  for (const auto& r : sc.tables("region")) {
+    if (r.str("kind") == "fem") {
+      if (!allow_fem)
+        r.fail("kind", fmt::format("region '{}': kind = \"fem\" cannot be run or checked in this version of "
+                                   "strata (allowed here: kind = \"particles\"); 'strata mesh' meshes FEM "
+                                   "regions for inspection, and coupled FEM-DEM runs go through a [coupled] "
+                                   "scene or 'strata report wave'",
+                                   r.str("name")));
+      d.fem.push_back(FemRegion{r.str("name"), r.str("material"), mesh_fem(r, dim)});
+      continue;
+    }
+    RegionInfo info;
+    info.name = r.str("name");
+    const Shape shape = shape_of(r, dim);
+    const auto kind = lattice_of(r, dim, info.lattice);
+    info.diameter = r.real("diameter");
+    Filled f;
+    if (r.str("shape") == "file") {
+      f = fill_file_region(r, dim, kind, info.diameter, geometries);
+      info.measure = f.fill->measure;
+    } else {
+      f.shape_lattice = preprocess::fill_shape(shape, kind, info.diameter, r.real("orientation"));
+      info.measure = shape.measure();
+    }
+    if (f.lattice().size() == 0)
+      r.fail("diameter", fmt::format("region '{}' holds no particle of diameter {} m: the shape is smaller "
+                                     "than one particle",
+                                     info.name, info.diameter));
+    f.first_id = next_id;
+    next_id += std::uint32_t(f.lattice().size());
+    RegionSites s;
+    s.first_id = f.first_id;
+    s.material = r.str("material");
+    // Bonds: the touching pairs of the regular lattice, region by region when any region is
+    // eccentric (ECC4D, SPEC C4: centroids offset, bonds kept, long ones weakened by γ);
+    // otherwise all touching pairs of the model (bonds_across_regions).
+    const std::string& ecc_type = r.str("eccentricity");
+    if (ecc_type != "none") {
+      preprocess::EccOptions o;
+      o.type = ecc_type == "cube" ? preprocess::Eccentricity::Cube : preprocess::Eccentricity::Sphere;
+      o.ra = r.real("ra");
+      o.rc = r.real("rc");
+      o.gamma = r.real("gamma");
+      o.seed = std::uint64_t(st.integer("seed")) + d.regions.size();  // one stream per region
+      preprocess::EccLattice e = preprocess::make_eccentric(f.lattice(), o);
+      s.eccentric = true;
+      s.sites = std::move(e.lattice);
+      s.bonds = std::move(e.bonds);
+      d.bonds_across_regions = false;
+    }
+    info.particles = f.lattice().size();
+    const double rad = info.diameter / 2;
+    const double one = dim == 2 ? M_PI * rad * rad : 4.0 / 3.0 * M_PI * rad * rad * rad;
+    info.packing = double(info.particles) * one / info.measure;
+    // Every region is also a group of its own name.
+    d.groups.push_back({info.name, info.particles, {}, int(d.regions.size())});
+    region_index[info.name] = d.regions.size();
+    d.regions.push_back(info);
+    d.sites.push_back(std::move(s));
+    filled.push_back(std::move(f));
+  }
+
+  for (const auto& g : sc.tables("group")) {
+    std::vector<std::uint32_t> ids;
+    const std::string& region = g.str("region");
+    for (const auto& [name, k] : region_index) {
+      if (!region.empty() && name != region) continue;
+      const Filled& f = filled[k];
+      for (std::uint32_t i : select(g, f)) ids.push_back(f.first_id + i);
+    }
+    if (ids.empty()) g.fail("select", fmt::format("group '{}' selects no particle", g.str("name")));
+    const std::size_t n = ids.size();
+    d.groups.push_back({g.str("name"), n, std::move(ids), -1});
+  }
+
+  // The regular lattices become the model's sites (moved, not copied); eccentric regions
+  // hold theirs already.
+  for (std::size_t k = 0; k < filled.size(); ++k) {
+    if (!d.sites[k].eccentric) d.sites[k].sites = std::move(filled[k].lattice());
+    drop_rows(d.sites[k].sites);
+  }
+  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return d;
+}
+
+preprocess::PairCounts count_bonds(const ModelDescription& d) {
+  const double d_ref = d.regions.empty() ? 1.0 : d.regions.front().diameter;
+  if (d.bonds_across_regions) return preprocess::count_touching_pairs(d.lattices(), d_ref);
+  preprocess::PairCounts total;
+  total.d_ref = d_ref;
+  total.width = 0.02;
+  auto add = [&](std::size_t k, std::size_t n) {
+    if (total.by_class.size() <= k) total.by_class.resize(k + 1, 0);
+    total.by_class[k] += n;
+    total.pairs += n;
+  };
+  for (const auto& s : d.sites) {
+    if (s.eccentric) {
+      const double unit = 1 / (d_ref * total.width);
+      for (double len : s.bonds.length) add(std::size_t(len * unit + 0.5), 1);  // as count_touching_pairs
+    } else {
+      const auto c = preprocess::count_touching_pairs({&s.sites}, d_ref, 1e-6, total.width);
+      for (std::size_t k = 0; k < c.by_class.size(); ++k)
+        if (c.by_class[k] > 0) add(k, c.by_class[k]);
+    }
+  }
+  return total;
+}
+
+std::vector<std::uint32_t> surface_particles(const ModelDescription& d) {
+  const int full = d.dim == 2 ? 6 : 12;  // coordination of the hex / close-packed lattice
+  if (d.bonds_across_regions) return preprocess::undercoordinated_sites(d.lattices(), full);
+  std::vector<std::uint32_t> out;
+  for (const auto& s : d.sites) {
+    if (s.eccentric) {
+      std::vector<int> count(s.sites.size(), 0);
+      for (std::size_t b = 0; b < s.bonds.size(); ++b) ++count[s.bonds.i[b]], ++count[s.bonds.j[b]];
+      for (std::size_t i = 0; i < count.size(); ++i)
+        if (count[i] < full) out.push_back(s.first_id + std::uint32_t(i));
+    } else {
+      for (std::uint32_t i : preprocess::undercoordinated_sites({&s.sites}, full))
+        out.push_back(s.first_id + i);
+    }
+  }
+  return out;
+}
 
 BuiltModel build_model(const scene::Scene& sc, bool force) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -178,102 +357,45 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     material_id[t.str("name")] = sim.add_material(mat);
   }
 
-  // Regions: fill each shape with its lattice; remember each region's lattice for groups.
-  std::map<std::string, Filled> filled;
-  std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
-  struct RegionBonds {
-    std::uint32_t first_id;
-    preprocess::BondList bonds;
-  };
-  std::vector<RegionBonds> region_bonds;
-  std::vector<std::size_t> regular_regions;
-  for (const auto& r : sc.tables("region")) {
-    if (r.str("kind") == "fem")
-      r.fail("kind", "FEM regions are not available in this version of strata; allowed here: particles");
-    RegionInfo info;
-    info.name = r.str("name");
-    const Shape shape = shape_of(r, dim);
-    const auto kind = lattice_of(r, dim, info.lattice);
-    info.diameter = r.real("diameter");
-    Filled f;
-    if (r.str("shape") == "file") {
-      f = fill_file_region(r, dim, kind, info.diameter, geometries);
-      info.measure = f.fill->measure;
+  // The particles, groups and bonds of the filled regions.
+  ModelDescription d = describe_model(sc, /*allow_fem=*/false);
+  m.regions = d.regions;
+  sim.reserve(d.particle_count());
+  for (std::size_t k = 0; k < d.sites.size(); ++k) {
+    const int mat = material_id.at(d.sites[k].material);
+    const double rad = d.regions[k].diameter / 2;
+    for (const auto& x : d.sites[k].sites.x) sim.add_particle(x, rad, mat);
+  }
+  for (const auto& g : d.groups) {
+    if (g.region >= 0) {  // a region's own group: its ids [first_id, first_id + count)
+      const RegionSites& s = d.sites[std::size_t(g.region)];
+      std::vector<std::uint32_t> ids(g.count);
+      for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = s.first_id + std::uint32_t(i);
+      sim.add_to_group(ids, g.name);
     } else {
-      f.shape_lattice = preprocess::fill_shape(shape, kind, info.diameter, r.real("orientation"));
-      info.measure = shape.measure();
+      sim.add_to_group(g.ids, g.name);
     }
-    if (f.lattice().size() == 0)
-      r.fail("diameter", fmt::format("region '{}' holds no particle of diameter {} m: the shape is smaller "
-                                     "than one particle",
-                                     info.name, info.diameter));
-    f.first_id = std::uint32_t(sim.particle_count());
-    const int mat = material_id.at(r.str("material"));
-    const double rad = info.diameter / 2;
-    sim.reserve(sim.particle_count() + f.lattice().size());
-    // Bonds: the touching pairs of the regular lattice, region by region when any region is
-    // eccentric (ECC4D, SPEC C4: centroids offset, bonds kept, long ones weakened by γ);
-    // otherwise all touching pairs of the model (bond_touching_pairs below).
-    const std::string& ecc_type = r.str("eccentricity");
-    if (ecc_type != "none") {
-      preprocess::EccOptions o;
-      o.type = ecc_type == "cube" ? preprocess::Eccentricity::Cube : preprocess::Eccentricity::Sphere;
-      o.ra = r.real("ra");
-      o.rc = r.real("rc");
-      o.gamma = r.real("gamma");
-      o.seed = std::uint64_t(st.integer("seed")) + m.regions.size();  // one stream per region
-      const preprocess::EccLattice e = preprocess::make_eccentric(f.lattice(), o);
-      for (const auto& x : e.lattice.x) sim.add_particle(x, rad, mat);
-      region_bonds.push_back(RegionBonds{f.first_id, e.bonds});
-    } else {
-      for (const auto& x : f.lattice().x) sim.add_particle(x, rad, mat);
-      region_bonds.push_back(RegionBonds{f.first_id, preprocess::BondList{}});
-      regular_regions.push_back(region_bonds.size() - 1);
-    }
-    info.particles = f.lattice().size();
-    const double one = dim == 2 ? M_PI * rad * rad : 4.0 / 3.0 * M_PI * rad * rad * rad;
-    info.packing = info.particles * one / info.measure;
-    // Every region is also a group of its own name.
-    std::vector<std::uint32_t> ids(info.particles);
-    for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = f.first_id + std::uint32_t(i);
-    sim.add_to_group(ids, info.name);
-    m.groups[info.name] = ids.size();
-    m.regions.push_back(info);
-    filled.emplace(info.name, std::move(f));
+    m.groups[g.name] = g.count;
   }
 
-  for (const auto& g : sc.tables("group")) {
-    std::vector<std::uint32_t> ids;
-    const std::string& region = g.str("region");
-    for (const auto& [name, f] : filled) {
-      if (!region.empty() && name != region) continue;
-      for (std::uint32_t i : select(g, f)) ids.push_back(f.first_id + i);
-    }
-    if (ids.empty()) g.fail("select", fmt::format("group '{}' selects no particle", g.str("name")));
-    sim.add_to_group(ids, g.str("name"));
-    m.groups[g.str("name")] = ids.size();
-  }
-
-  if (regular_regions.size() == region_bonds.size()) {
+  if (d.bonds_across_regions) {
     sim.bond_touching_pairs();
   } else {
     // eccentric regions present: bonds as data, each region bonded within itself
-    for (std::size_t idx : regular_regions) {
-      const auto& reg = m.regions[idx];
-      region_bonds[idx].bonds = preprocess::touching_pairs(filled.at(reg.name).lattice());
-    }
     std::vector<std::uint32_t> bi, bj;
     std::vector<double> factor;
-    for (const auto& rb : region_bonds) {
-      const auto& b = rb.bonds;
+    for (auto& s : d.sites) {
+      if (!s.eccentric) s.bonds = preprocess::touching_pairs(s.sites);
+      const auto& b = s.bonds;
       for (std::size_t q = 0; q < b.size(); ++q) {
-        bi.push_back(rb.first_id + b.i[q]);
-        bj.push_back(rb.first_id + b.j[q]);
+        bi.push_back(s.first_id + b.i[q]);
+        bj.push_back(s.first_id + b.j[q]);
         factor.push_back(b.stiffness_factor[q]);
       }
     }
     sim.set_bonds(bi, bj, factor);
   }
+  d = ModelDescription{};  // the simulation holds the particles now
 
   for (const auto& b : sc.tables("boundary")) {
     const std::string& group = b.str("group");

@@ -468,8 +468,15 @@ std::vector<std::uint32_t> near_facets(const SimplexMesh& facets, const Lattice&
   const BoundaryDistance dist(facets);
   std::vector<char> in(l.size(), 0);
   const double tol = 1e-9 * (l.radius > 0 ? l.radius : 1.0);
+  // Sites outside the facets' bounds grown by the width are farther than it from every
+  // facet: a box test skips the distance query for them (most sites, for a planar group).
+  Bounds b = facets.bounds();
+  for (int a = 0; a < 3; ++a) b.lo[a] -= width + 2 * tol, b.hi[a] += width + 2 * tol;
   par::parallel_for(std::ptrdiff_t(l.size()), [&](std::ptrdiff_t i) {
-    in[std::size_t(i)] = dist(l.x[std::size_t(i)]) <= width + tol ? 1 : 0;
+    const Vec3& p = l.x[std::size_t(i)];
+    bool near = true;
+    for (int a = 0; a < 3; ++a) near = near && p[a] >= b.lo[a] && p[a] <= b.hi[a];
+    in[std::size_t(i)] = near && dist(p) <= width + tol ? 1 : 0;
   });
   for (std::size_t i = 0; i < l.size(); ++i)
     if (in[i]) out.push_back(std::uint32_t(i));

@@ -46,6 +46,37 @@ struct BondList {
 /// every factor 1.
 BondList touching_pairs(const Lattice& l, double tol = 1e-6);
 
+/// Pairs of `sites` (several lattices taken as one set: site k of lattice p has the global
+/// index k + the sizes of the lattices before it) whose centres lie within
+/// (r_i + r_j)·(1 + tol), the bonding rule of dem::Simulation::bond_touching_pairs
+/// (overlapping pairs included), ascending by i then j, global indices; every factor 1.
+BondList touching_pairs(const std::vector<const Lattice*>& sites, double tol = 1e-6);
+
+/// Touching pairs of a set of sites counted by length class, without storing the pairs.
+struct PairCounts {
+  std::size_t pairs = 0;
+  double d_ref = 0;  ///< reference length of the classes (m)
+  double width = 0;  ///< class width, as a fraction of d_ref
+  /// by_class[k]: pairs with round(length / (d_ref·width)) = k (k = 50 is length = d_ref
+  /// for the default width 0.02).
+  std::vector<std::size_t> by_class;
+};
+
+/// Counts the pairs that touching_pairs(sites, tol) lists (e.g. the regions of a model:
+/// the bond count of the model dem::Simulation::bond_touching_pairs builds from them). On a regular lattice
+/// (no two sites closer than d) this is touching_pairs().size(). Streams over the cell grid of touching_pairs
+/// (half of the neighbour cells per cell), in parallel over fixed blocks of cells whose partial counts are
+/// added in block order: the same result for any number of threads. Memory: 4 bytes per site and per cell,
+/// and 4 per site while the grid is sorted; never the pairs.
+PairCounts count_touching_pairs(const std::vector<const Lattice*>& sites, double d_ref, double tol = 1e-6,
+                                double width = 0.02);
+
+/// Sites of `sites` (global indices as in count_touching_pairs: lattice after lattice,
+/// ascending) that touch fewer than `full` others by the rule of count_touching_pairs: on a
+/// regular lattice (full = 6 in 2D, 12 in 3D) its surface. Same grid, one byte per site.
+std::vector<std::uint32_t> undercoordinated_sites(const std::vector<const Lattice*>& sites, int full,
+                                                  double tol = 1e-6);
+
 /// Moves every centroid by its ECC4D offset (uniform in a cube of half-side Ra·R, or
 /// uniform on a sphere / circle of radius Ra·R).
 void apply_eccentricity(Lattice& l, const EccOptions& opt);
