@@ -1124,8 +1124,12 @@ class Model final : public ModelBase {
         bond_block<kEnergy, kUniform>(t, c, blk * kBlock, pe, e);
       else
         bond_block<kEnergy, kRadiusSum>(t, c, blk * kBlock, pe, e);
-      const Scratch& S = scratch[t];
+      // the block's bond forces and energies (pointers hoisted: the stores to f[] below
+      // would otherwise make the compiler reload them for every bond)
       const std::uint32_t kb0 = boff[blk * kBlock];
+      const double* __restrict SF[D];
+      for (int a = 0; a < D; ++a) SF[a] = scratch[t].fb[a].data() - kb0;
+      const double* __restrict SE = scratch[t].en.data() - kb0;
       for (std::ptrdiff_t p = blk * kBlock; p < pe; ++p) {
         double F[D];
         for (int a = 0; a < D; ++a) {
@@ -1142,10 +1146,10 @@ class Model final : public ModelBase {
             if constexpr (kEnergy) eb += s[D];
           } else {
             for (int a = 0; a < D; ++a) {
-              Fb[a] = S.fb[a][k - kb0];
+              Fb[a] = SF[a][k];
               FA[a][j] -= Fb[a];
             }
-            if constexpr (kEnergy) eb += S.en[k - kb0];
+            if constexpr (kEnergy) eb += SE[k];
           }
           for (int a = 0; a < D; ++a) F[a] += Fb[a];
         }
@@ -1185,14 +1189,16 @@ class Model final : public ModelBase {
         const double imass = IM[p];
         double v2 = 0, vv = 0;
         if (!FL[p]) [[likely]] {
+          double dp = 0;  // this particle's damping loss: one add per particle on the block's chain
           for (int a = 0; a < D; ++a) {
             const double vo = V[a][p];
-            const double vn = integrate<DK>(vo, F[a], imass, c.g[a], dt, cv, alpha, diss);
+            const double vn = integrate<DK>(vo, F[a], imass, c.g[a], dt, cv, alpha, dp);
             V[a][p] = vn;
             X[a][p] += vn * dt;
             v2 += vn * vn;
             vv += vo * vn;
           }
+          diss += dp;
         } else {
           BcParticle& bc = *bc_it++;
           double fapp[3] = {0, 0, 0};
