@@ -13,6 +13,7 @@
 #include "strata/io/display.hpp"
 #include "strata/io/series.hpp"
 #include "strata/io/vtk.hpp"
+#include "vtk_grid.hpp"
 
 #if STRATA_WITH_RENDER
 #include <fcntl.h>
@@ -394,26 +395,7 @@ struct MeshActor {
 /// through `lut`, or in one colour when `values` is empty.
 MeshActor mesh_actor(const MeshFrame& mesh, const MeshValues& mv, const RenderStyle& s, int dim,
                      vtkLookupTable* lut, const std::array<double, 2>& range) {
-  vtkNew<vtkUnstructuredGrid> ug;
-  vtkNew<vtkPoints> pts;
-  pts->SetDataTypeToDouble();
-  const auto n = static_cast<vtkIdType>(mesh.nodes());
-  pts->SetNumberOfPoints(n);
-  for (vtkIdType i = 0; i < n; ++i) pts->SetPoint(i, &mesh.xyz[3 * static_cast<std::size_t>(i)]);
-  ug->SetPoints(pts);
-  vtkNew<vtkIdTypeArray> offsets, conn;
-  vtkNew<vtkUnsignedCharArray> types;
-  vtkIdType at = 0;
-  for (const CellType t : mesh.cell_types) {
-    offsets->InsertNextValue(at);
-    types->InsertNextValue(static_cast<unsigned char>(t));
-    at += nodes_per_cell(t);
-  }
-  offsets->InsertNextValue(at);
-  for (const auto k : mesh.connectivity) conn->InsertNextValue(k);
-  vtkNew<vtkCellArray> cells;
-  cells->SetData(offsets, conn);
-  ug->SetCells(types, cells);
+  const vtkSmartPointer<vtkUnstructuredGrid> ug = detail::mesh_grid(mesh);
   const bool coloured = !mv.values.empty();
   if (coloured) {
     vtkNew<vtkFloatArray> c;

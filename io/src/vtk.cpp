@@ -3,6 +3,7 @@
 #include "atomic_file.hpp"
 #include "strata/config.hpp"
 #include "strata/core/error.hpp"
+#include "vtk_grid.hpp"
 
 #if STRATA_WITH_VTK
 #include <vtkCellArray.h>
@@ -282,9 +283,9 @@ VtpContents read_vtp(const std::filesystem::path& path) {
   return out;
 }
 
-void write_mesh(const std::filesystem::path& path, const MeshFrame& mesh) {
-  validate(mesh);
-  vtkNew<vtkUnstructuredGrid> ug;
+namespace detail {
+vtkSmartPointer<vtkUnstructuredGrid> mesh_grid(const MeshFrame& mesh) {
+  auto ug = vtkSmartPointer<vtkUnstructuredGrid>::New();
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
   const auto n = static_cast<vtkIdType>(mesh.nodes());
@@ -309,6 +310,13 @@ void write_mesh(const std::filesystem::path& path, const MeshFrame& mesh) {
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, conn);
   ug->SetCells(types, cells);
+  return ug;
+}
+}  // namespace detail
+
+void write_mesh(const std::filesystem::path& path, const MeshFrame& mesh) {
+  validate(mesh);
+  const vtkSmartPointer<vtkUnstructuredGrid> ug = detail::mesh_grid(mesh);
   for (const auto& a : mesh.point_data) ug->GetPointData()->AddArray(to_vtk(a));
   for (const auto& a : mesh.cell_data) ug->GetCellData()->AddArray(to_vtk(a));
   add_field_data(ug, mesh);

@@ -71,6 +71,24 @@ void btdb(const double (&B)[NS][ND], const double* D, double scale, ElementMatri
 
 }  // namespace
 
+double two_node_axis(const Mesh& mesh, std::int32_t a, std::int32_t b, double n[3]) {
+  const int dim = mesh.dim;
+  n[0] = 1;
+  n[1] = n[2] = 0;
+  double L = 0;
+  for (int c = 0; c < dim; ++c) {
+    n[c] = mesh.x[static_cast<std::size_t>(c)][static_cast<std::size_t>(b)] -
+           mesh.x[static_cast<std::size_t>(c)][static_cast<std::size_t>(a)];
+    L += n[c] * n[c];
+  }
+  L = std::sqrt(L);
+  if (dim == 1)
+    n[0] = 1;
+  else if (L > 0)
+    for (int c = 0; c < dim; ++c) n[c] /= L;
+  return L;
+}
+
 void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e, ElementMatrices& out) {
   const int npe = nodes_per_element(block.type), dim = mesh.dim;
   const Material& mat = block.material;
@@ -85,19 +103,10 @@ void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e
     case ElementType::Spring:
     case ElementType::Bar: {
       // axial two-node element: k [n nᵀ, −n nᵀ; −n nᵀ, n nᵀ]
-      double n[3] = {1, 0, 0}, L = 0;
-      for (int c = 0; c < dim; ++c) {
-        n[c] = X(1, c) - X(0, c);
-        L += n[c] * n[c];
-      }
-      L = std::sqrt(L);
-      if (dim == 1) {
-        n[0] = 1;  // springs act along +x in 1D (zero-length springs allowed)
-      } else {
-        STRATA_CHECK(L > 0, Input, "{} element {} joins coincident nodes {} and {}", to_string(block.type), e,
-                     out.node[0], out.node[1]);
-        for (int c = 0; c < dim; ++c) n[c] /= L;
-      }
+      double n[3];
+      const double L = two_node_axis(mesh, out.node[0], out.node[1], n);
+      STRATA_CHECK(dim == 1 || L > 0, Input, "{} element {} joins coincident nodes {} and {}",
+                   to_string(block.type), e, out.node[0], out.node[1]);
       double k = mat.k;
       out.m[0] = out.m[1] = 0;
       if (block.type == ElementType::Bar) {

@@ -28,15 +28,9 @@ std::array<double, 6> element_stress(const Mesh& mesh, const ElementBlock& block
       return sigma;
     case ElementType::Bar: {
       // Axial strain (Δu·n)/L along the unit vector n from node 0 to node 1.
-      double n[3] = {1, 0, 0}, L = 0;
-      for (int c = 0; c < dim; ++c) {
-        n[c] = X(1, c) - X(0, c);
-        L += n[c] * n[c];
-      }
-      L = std::sqrt(L);
+      double n[3];
+      const double L = two_node_axis(mesh, node[0], node[1], n);
       STRATA_CHECK(L > 0, Input, "bar element {} has zero length", e);
-      for (int c = 0; c < dim; ++c) n[c] /= L;
-      if (dim == 1) n[0] = 1;
       double du = 0;
       for (int c = 0; c < dim; ++c) du += (U(1, c) - U(0, c)) * n[c];
       const double s = mat.E * du / L;

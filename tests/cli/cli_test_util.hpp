@@ -39,6 +39,42 @@ inline fs::path temp_dir(const std::string& name) {
   return d;
 }
 
+/// The SPEC C1 rock as a scene [[material]] named "rock".
+inline const std::string kMaterial = R"(
+[[material]]
+name = "rock"
+density = 2650.0
+kn = 6.587e10
+ks = 2.371e10
+friction = 0.239
+tensile_strength = 1.252e4
+shear_strength = 3.690e4
+)";
+
+/// Platens of a 2D block: groups "top" and "bottom" (rows), the bottom fixed, the top
+/// moving down at `speed` (m/s).
+inline std::string platens(const std::string& speed) {
+  return R"(
+[[group]]
+name = "top"
+select = "top_row"
+
+[[group]]
+name = "bottom"
+select = "bottom_row"
+
+[[boundary]]
+group = "bottom"
+type = "fixed"
+
+[[boundary]]
+group = "top"
+type = "velocity"
+axes = ["y"]
+velocity = [0.0, -)" +
+         speed + "]\n";
+}
+
 inline fs::path write(const fs::path& dir, const std::string& name, const std::string& text) {
   std::ofstream(dir / name) << text;
   return dir / name;

@@ -25,17 +25,6 @@ using namespace cli_test;
 
 namespace {
 
-const std::string kMaterial = R"(
-[[material]]
-name = "rock"
-density = 2650.0
-kn = 6.587e10
-ks = 2.371e10
-friction = 0.239
-tensile_strength = 1.252e4
-shear_strength = 3.690e4
-)";
-
 /// A small valid 2D scene; `extra` is appended.
 std::string small_scene(const std::string& extra = "", const std::string& material = kMaterial) {
   return "[scene]\ndimension = 2\n" + material + R"(
@@ -44,25 +33,8 @@ name = "block"
 material = "rock"
 diameter = 0.001
 size = [0.010, 0.0105]
-
-[[group]]
-name = "top"
-select = "top_row"
-
-[[group]]
-name = "bottom"
-select = "bottom_row"
-
-[[boundary]]
-group = "bottom"
-type = "fixed"
-
-[[boundary]]
-group = "top"
-type = "velocity"
-axes = ["y"]
-velocity = [0.0, -0.05]
-
+)" + platens("0.05") +
+         R"(
 [solver]
 steps = 400
 )" + extra;

@@ -16,16 +16,8 @@ std::string ecc_scene(double ra, const std::string& extra = "") {
   return R"([scene]
 dimension = 2
 seed = 11
-
-[[material]]
-name = "rock"
-density = 2650.0
-kn = 6.587e10
-ks = 2.371e10
-friction = 0.239
-tensile_strength = 1.252e4
-shear_strength = 3.690e4
-
+)" + kMaterial +
+         R"(
 [[region]]
 name = "block"
 material = "rock"
@@ -103,25 +95,7 @@ TEST(CliEcc, RunStartsUnloadedAndIsSofterThanTheRegularLattice) {
     }
     EXPECT_GT(rows, 1);
   }
-  const std::string load = R"(
-[[group]]
-name = "top"
-select = "top_row"
-
-[[group]]
-name = "bottom"
-select = "bottom_row"
-
-[[boundary]]
-group = "bottom"
-type = "fixed"
-
-[[boundary]]
-group = "top"
-type = "velocity"
-axes = ["y"]
-velocity = [0.0, -0.5]
-
+  const std::string load = platens("0.5") + R"(
 [probe]
 stress_strain = true
 top_group = "top"

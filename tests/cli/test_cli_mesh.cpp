@@ -12,7 +12,7 @@ using namespace cli_test;
 using nlohmann::json;
 
 namespace {
-const std::string kMaterial = R"([[material]]
+const std::string kElasticRock = R"([[material]]
 name = "rock"
 density = 2650.0
 kn = 6.587e10
@@ -24,7 +24,7 @@ friction = 0.239
 /// mesh of "fem" (below).
 std::string mixed_scene() {
   const std::string geo = std::string(STRATA_SOURCE_DIR) + "/tests/preprocess/data/two_blocks_3d.geo";
-  return "[scene]\ndimension = 3\n\n" + kMaterial + R"(
+  return "[scene]\ndimension = 3\n\n" + kElasticRock + R"(
 [[region]]
 name = "particles"
 material = "rock"
@@ -118,7 +118,7 @@ TEST(CliMesh, RunAndCheckRefuseFemRegions) {
 // (bonds across their shared side) and a disk, 2D.
 TEST(CliMesh, CountedBondsEqualTheRunsBonds) {
   const fs::path d = temp_dir("mesh_bonds");
-  const fs::path scene = write(d, "boxes.toml", "[scene]\ndimension = 2\n\n" + kMaterial + R"(
+  const fs::path scene = write(d, "boxes.toml", "[scene]\ndimension = 2\n\n" + kElasticRock + R"(
 [[region]]
 name = "lower"
 material = "rock"

@@ -25,6 +25,10 @@ struct ElementMatrices {
 /// Throws strata::Error(Input) for degenerate (zero length/area/volume) or inverted elements.
 void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e, ElementMatrices& out);
 
+/// Length L of a two-node element (nodes a -> b) and its unit axis n (normalised when
+/// L > 0 in 2D/3D; +x in 1D, where springs act along x whatever their length).
+double two_node_axis(const Mesh& mesh, std::int32_t a, std::int32_t b, double n[3]);
+
 /// Elasticity matrix (Voigt, engineering shear strain) of a block: 3x3 for Tri3 (plane
 /// stress or strain), 6x6 for Tet4. Written into D (row-major, size 9 or 36).
 void elasticity_matrix(const Material& m, ElementType t, double* D);
