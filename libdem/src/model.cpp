@@ -1296,7 +1296,7 @@ class Model final : public ModelBase {
     events.insert(events.end(), fresh.begin(), fresh.end());
   }
 
-  void run(std::int64_t steps) override {
+  void run(std::int64_t steps, bool energies_at_end) override {
     STRATA_CHECK(initialised, Input, "run: call initialise() first");
     STRATA_CHECK(steps >= 0, Input, "run: steps = {} must be >= 0", steps);
     if (steps == 0) return;
@@ -1317,7 +1317,7 @@ class Model final : public ModelBase {
       c.t = time_;
       for (std::size_t h = 0; h < histories.size(); ++h) c.hist[h] = histories[h].at(time_);
       const bool check_now = check > 0 && (step_ + 1) % check == 0;
-      const bool energy = s == steps - 1 || check_now;
+      const bool energy = (energies_at_end && s == steps - 1) || check_now;
       if (energy)
         dispatch<true>(c);
       else

@@ -138,7 +138,7 @@ class ModelBase {
   virtual double lambda_bound() const = 0;
   virtual double lambda_estimate() const = 0;
   virtual void check_dt() = 0;
-  virtual void run(std::int64_t steps) = 0;
+  virtual void run(std::int64_t steps, bool energies_at_end) = 0;
   virtual std::int64_t step_count() const = 0;
   virtual double time() const = 0;
   virtual std::int64_t last_good_step() const = 0;

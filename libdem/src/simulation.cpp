@@ -136,7 +136,7 @@ void Simulation::set_dt(double dt) {
     throw;
   }
 }
-void Simulation::run(std::int64_t steps) { m_->run(steps); }
+void Simulation::run(std::int64_t steps, bool energies) { m_->run(steps, energies); }
 std::int64_t Simulation::step_count() const { return m_->step_count(); }
 double Simulation::time() const { return m_->time(); }
 std::int64_t Simulation::last_good_step() const { return m_->last_good_step(); }
