@@ -70,6 +70,7 @@ int main(int argc, char** argv) {
       "  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --set solver.steps=400000 \\\n"
       "      --restart out/c1/checkpoint.h5\n"
       "  strata run examples/02_metamaterial_chain/scene.toml -o out/meta   # coupled chain: eta sweep\n"
+      "  strata run examples/04_coupled_wave/quick.toml -o out/wave_q        # coupled wave: eta sweep\n"
       "SIGINT (Ctrl-C) or SIGTERM stop a run between two chunks of steps: it writes the current frame\n"
       "and OUTDIR/checkpoint.h5, and exits with status 130 or 143.");
 
@@ -204,7 +205,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   report->footer(
       "Examples:\n  strata report chain6 -o out/chain6\n  strata report metamaterial --dt-dem 1e-4 --check\n"
-      "  strata report wave -o out/wave --wavelengths 10 20 40");
+      "  strata report wave -o out/wave --wavelengths 10 20 40\n"
+      "The same sweeps run from scene files: strata check|run examples/02_metamaterial_chain/scene.toml,\n"
+      "examples/04_coupled_wave/scene.toml ([coupled], docs/scene-reference.md).");
 
   // ---- reference ----
   std::string ref_out;
@@ -237,6 +240,8 @@ int main(int argc, char** argv) {
       if (!rep.fem_scheme.empty()) wave.fem_scheme = rep.fem_scheme;
       wave.repeats = report->count("--repeats") ? rep.repeats : 1;
       wave.no_plot = rep.no_plot;
+      wave.check_only = rep.check_only;
+      wave.refuse_unstable_eta = rep.check_only;  // --check: exit 2 when an eta would be refused
       return wave_report_cmd(wave);
     }
     if (*report) return report_cmd(rep);

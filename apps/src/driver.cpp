@@ -57,8 +57,10 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 scene::Scene load_scene(const SceneOptions& opt) {
   scene::Scene sc = scene::load(opt.scene, opt.overrides);
-  const scene::Table& threads_of = sc.coupled() ? sc.table("coupled") : sc.table("solver");
-  const int threads = opt.threads >= 0 ? opt.threads : int(threads_of.integer("threads"));
+  // A coupled scene's threads default per case (report.cpp); a particle scene's is [solver]'s.
+  const int threads = opt.threads >= 0 ? opt.threads
+                      : sc.coupled()   ? coupled_threads(sc)
+                                       : int(sc.table("solver").integer("threads"));
   par::set_threads(threads);
   return sc;
 }
@@ -733,7 +735,7 @@ int run_scene(const SceneOptions& opt) {
     STRATA_CHECK(opt.restart.empty(), Input,
                  "--restart: {} is a coupled-chain scene ([coupled]); its sweep has no checkpoints",
                  sc.file.string());
-    return run_coupled_scene(sc, opt.output, opt.force);
+    return run_coupled_scene(sc, opt.output, opt.force, opt.threads);
   }
   const scene::Table& o = sc.table("output");
   if (!STRATA_WITH_HDF5 && !opt.restart.empty())

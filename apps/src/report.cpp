@@ -20,6 +20,7 @@
 #include <optional>
 
 #include "scene/scene.hpp"
+#include "wave_report.hpp"
 
 namespace strata::app {
 
@@ -222,41 +223,6 @@ std::string header(const Plan& p) {
 
 double mode_code(const std::string& m) { return m == "serial" ? 0 : m == "parallel" ? 1 : 2; }
 
-/// A folder beside the output folder that receives the files first; commit() moves them
-/// into the output folder (one rename each), so it never holds half of a sweep's files, and
-/// a failure before that leaves nothing (the staging folder is removed).
-class Staging {
- public:
-  explicit Staging(const fs::path& dir) {
-    final_ = fs::absolute(dir).lexically_normal();
-    if (final_.filename().empty()) final_ = final_.parent_path();
-    tmp_ = final_.parent_path() / fmt::format(".{}.partial-{}", final_.filename().string(), ::getpid());
-    fs::remove_all(tmp_);
-    fs::create_directories(tmp_);
-  }
-  ~Staging() {
-    std::error_code ec;
-    fs::remove_all(tmp_, ec);
-  }
-  Staging(const Staging&) = delete;
-  Staging& operator=(const Staging&) = delete;
-  const fs::path& path() const { return tmp_; }
-  /// Moves every staged file into the output folder; returns their final paths.
-  std::vector<fs::path> commit(const fs::path& shown) {
-    fs::create_directories(final_);
-    std::vector<fs::path> moved;
-    for (const auto& e : fs::directory_iterator(tmp_)) {
-      fs::rename(e.path(), final_ / e.path().filename());
-      moved.push_back(shown / e.path().filename());
-    }
-    std::sort(moved.begin(), moved.end());
-    return moved;
-  }
-
- private:
-  fs::path final_, tmp_;
-};
-
 /// Writes <case>_sweep.{csv,md,png} and summary.json into `dir`; prints the Markdown table.
 void write_files(const Plan& p, const std::vector<couple::SweepRow>& rows, const fs::path& dir,
                  double wall_s) {
@@ -345,6 +311,32 @@ int run_plan(const Plan& p, const Refuse& refuse, bool check_only, bool json_out
 
 }  // namespace
 
+Staging::Staging(const fs::path& dir) {
+  final_ = fs::absolute(dir).lexically_normal();
+  if (final_.filename().empty()) final_ = final_.parent_path();
+  tmp_ = final_.parent_path() / fmt::format(".{}.partial-{}", final_.filename().string(), ::getpid());
+  fs::remove_all(tmp_);
+  fs::create_directories(tmp_);
+}
+
+Staging::~Staging() {
+  std::error_code ec;
+  fs::remove_all(tmp_, ec);
+}
+
+std::vector<fs::path> Staging::commit(const fs::path& shown) {
+  fs::create_directories(final_);
+  std::vector<fs::path> moved;
+  for (const auto& e : fs::directory_iterator(tmp_)) {
+    const fs::path target = final_ / e.path().filename();
+    if (fs::is_directory(target)) fs::remove_all(target);  // a folder (series/) of an earlier run
+    fs::rename(e.path(), target);
+    moved.push_back(shown / e.path().filename());
+  }
+  std::sort(moved.begin(), moved.end());
+  return moved;
+}
+
 int report_cmd(const ReportOptions& opt) { return run_plan(resolve(opt), Refuse{}, opt.check_only); }
 
 ReportOptions coupled_report_options(const scene::Scene& sc, bool force) {
@@ -357,8 +349,10 @@ ReportOptions coupled_report_options(const scene::Scene& sc, bool force) {
   o.scene = sc.file;
   o.output = out.path("directory");
   o.no_plot = !out.boolean("render");
-  o.etas.clear();
-  for (std::int64_t e : c.integers("eta")) o.etas.push_back(static_cast<int>(e));
+  if (c.has("eta")) {  // else the paper's list, ReportOptions' default
+    o.etas.clear();
+    for (std::int64_t e : c.integers("eta")) o.etas.push_back(static_cast<int>(e));
+  }
   o.modes = c.str("modes");
   o.dt_dem = c.real("dt_dem");
   o.duration = c.real("duration");
@@ -366,19 +360,27 @@ ReportOptions coupled_report_options(const scene::Scene& sc, bool force) {
   o.dt_ref = c.real("dt_ref");
   o.pulse_amplitude = c.real("pulse_amplitude");
   o.pulse_duration = c.real("pulse_duration");
-  o.repeats = static_cast<int>(c.integer("repeats"));
+  if (c.has("repeats")) o.repeats = static_cast<int>(c.integer("repeats"));
   o.refuse_unstable_eta = !force;
   return o;
 }
 
+int coupled_threads(const scene::Scene& sc) {
+  const scene::Table& c = sc.table("coupled");
+  if (c.has("threads")) return static_cast<int>(c.integer("threads"));
+  return c.str("case") == "wave" ? WaveOptions{}.threads : 0;
+}
+
 int check_coupled_scene(const scene::Scene& sc, bool json_out, bool force) {
+  if (sc.table("coupled").str("case") == "wave") return check_wave_scene(sc, json_out, force);
   const ReportOptions o = coupled_report_options(sc, force);
   if (!json_out)
     std::printf("scene        %s (coupled chain, case %s)\n", sc.file.string().c_str(), o.case_name.c_str());
   return run_plan(resolve(o), Refuse{&sc.table("coupled")}, /*check_only=*/true, json_out);
 }
 
-int run_coupled_scene(const scene::Scene& sc, const fs::path& output, bool force) {
+int run_coupled_scene(const scene::Scene& sc, const fs::path& output, bool force, int threads) {
+  if (sc.table("coupled").str("case") == "wave") return run_wave_scene(sc, output, force, threads);
   ReportOptions o = coupled_report_options(sc, force);
   if (!output.empty()) o.output = output;
   std::printf("scene        %s (coupled chain, case %s)\n", sc.file.string().c_str(), o.case_name.c_str());

@@ -2,7 +2,9 @@
 /// Error-versus-run-time sweeps of the coupled chain cases of SPEC C3 over η (serial and
 /// parallel), written as CSV, Markdown, a PNG plot and summary.json. Two entry points share
 /// one path: `strata report chain6|metamaterial [options]` and `strata check|run SCENE` of a
-/// coupled-chain scene ([coupled], see docs/scene-reference.md).
+/// coupled-chain scene ([coupled], see docs/scene-reference.md). A [coupled] scene with
+/// case = "wave" goes to the coupled wave's path instead (wave_report.hpp), through the same
+/// check_coupled_scene / run_coupled_scene.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -40,16 +42,41 @@ struct ReportOptions {
 /// to exit status 2; nothing is written then, and the files appear in `output` all at once.
 int report_cmd(const ReportOptions& opt);
 
-/// The report options of a coupled-chain scene ([coupled]); output is the scene's
-/// output.directory, no_plot is !output.render, refuse_unstable_eta is !force.
+/// The report options of a coupled-chain scene ([coupled], case chain6 or metamaterial);
+/// output is the scene's output.directory, no_plot is !output.render, refuse_unstable_eta is
+/// !force.
 ReportOptions coupled_report_options(const scene::Scene& sc, bool force);
 
-/// `strata check SCENE` of a coupled-chain scene: the stability numbers per partition and per
-/// η; throws Input (exit 2) at the scene key (file:line:col) when dt_DEM or an η is unstable.
+/// [coupled].threads of a coupled scene, or its case's default (chains 0 = all, wave 1).
+int coupled_threads(const scene::Scene& sc);
+
+/// `strata check SCENE` of a coupled scene: the stability numbers per partition and per η;
+/// throws Input (exit 2) at the scene key (file:line:col) when dt_DEM or an η is unstable
+/// (the wave: when the coupler would refuse an η, unless `force`).
 int check_coupled_scene(const scene::Scene& sc, bool json, bool force);
 
-/// `strata run SCENE` of a coupled-chain scene: the same checks, then the sweep, written to
-/// `output` (empty: the scene's output.directory) through a staging folder.
-int run_coupled_scene(const scene::Scene& sc, const std::filesystem::path& output, bool force);
+/// `strata run SCENE` of a coupled scene: the same checks, then the sweep, written to
+/// `output` (empty: the scene's output.directory) through a staging folder. `threads` >= 0
+/// (`strata run --threads`) overrides [coupled].threads.
+int run_coupled_scene(const scene::Scene& sc, const std::filesystem::path& output, bool force,
+                      int threads = -1);
+
+/// A folder beside the output folder that receives a sweep's files first; commit() moves them
+/// into the output folder (one rename each, replacing what is there), so it never holds half
+/// of a sweep's files, and a failure before that leaves nothing (the staging folder is removed).
+class Staging {
+ public:
+  explicit Staging(const std::filesystem::path& dir);
+  ~Staging();
+  Staging(const Staging&) = delete;
+  Staging& operator=(const Staging&) = delete;
+  const std::filesystem::path& path() const { return tmp_; }
+  /// Moves every staged file and folder into the output folder; returns their paths as
+  /// `shown / name`, sorted.
+  std::vector<std::filesystem::path> commit(const std::filesystem::path& shown);
+
+ private:
+  std::filesystem::path final_, tmp_;
+};
 
 }  // namespace strata::app

@@ -2,6 +2,7 @@
 // from a geometry file (see wave_report.hpp).
 #include "wave_report.hpp"
 
+#include <nlohmann/json.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
@@ -22,12 +23,15 @@
 #include <map>
 
 #include "frames.hpp"
+#include "report.hpp"
+#include "scene/scene.hpp"
 
 namespace strata::app {
 
 namespace {
 
 namespace fs = std::filesystem;
+using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 // Arrival windows, in pulse durations T: from kBefore·T before the arrival at c to kAfter·T
@@ -129,6 +133,75 @@ WindowMeasure measure(const std::vector<double>& t, const std::vector<double>& v
 std::string scheme_name(const WaveModel& m, int eta, const std::string& scheme) {
   if (scheme != "auto") return fem::to_string(fem::scheme_from_string(scheme));
   return eta * m.dt_dem <= m.fem_explicit_dt ? "central-difference" : "implicit-newmark";
+}
+
+// ---- the two partitions and their overlap, as every run builds them ----
+
+// DEM partition: the lattice, bonded, rollers on the end particles of every column.
+dem::Simulation wave_dem(const WaveModel& m) {
+  const auto& ov = m.overlap;
+  const int lat = 1 - ov.axis;
+  dem::Settings ds;
+  ds.dt = m.dt_dem;
+  ds.contact_detection = false;  // elastic bonded lattice: no new contacts
+  dem::Simulation sim(2, ds);
+  dem::Material mat;
+  mat.density = m.rho;
+  mat.kn = m.kn;
+  mat.ks = m.ks;
+  const int mi = sim.add_material(mat);
+  sim.reserve(ov.particles.size());
+  for (const auto& x : ov.particles.x) sim.add_particle(x, ov.particles.radius, mi);
+  sim.bond_touching_pairs();
+  std::map<long, std::pair<std::uint32_t, std::uint32_t>> ends;  // column -> (lowest, highest)
+  for (std::uint32_t i = 0; i < ov.particles.size(); ++i) {
+    const long col = std::lround(ov.depth(ov.particles.x[i]) / ov.layer_spacing);
+    auto [it, fresh] = ends.try_emplace(col, i, i);
+    if (fresh) continue;
+    if (ov.particles.x[i][lat] < ov.particles.x[it->second.first][lat]) it->second.first = i;
+    if (ov.particles.x[i][lat] > ov.particles.x[it->second.second][lat]) it->second.second = i;
+  }
+  std::vector<std::uint32_t> rollers;
+  for (const auto& [col, e] : ends) rollers.push_back(e.first), rollers.push_back(e.second);
+  sim.add_to_group(rollers, "rollers");
+  sim.fix("rollers", lat == 0 ? dem::kX : dem::kY);
+  return sim;
+}
+
+// FEM partition: the mesh with rollers on the lateral sides (the load is run_wave's).
+fem::Solver wave_fem(const WaveModel& m, const std::string& scheme, double dt_fem) {
+  fem::SolverSettings fs;
+  fs.scheme = fem::scheme_from_string(scheme);
+  fs.dt = dt_fem;
+  fem::Solver solver(fem_mesh(m), fs);
+  for (auto n : fem_roller_nodes(m)) solver.fix(2 * n + (1 - m.overlap.axis));
+  return solver;
+}
+
+// The overlap: one common id per coincident (particle, node) pair and axis.
+couple::Overlap wave_overlap(const WaveModel& m, std::size_t dem_dofs, std::size_t fem_dofs) {
+  const auto& ov = m.overlap;
+  std::vector<std::int64_t> dem_ids(dem_dofs), fem_ids(fem_dofs);
+  std::vector<couple::Role> dem_roles(dem_dofs, couple::Role::Internal),
+      fem_roles(fem_dofs, couple::Role::Internal);
+  auto role = [](preprocess::OverlapTag t) {
+    return t == preprocess::OverlapTag::Boundary   ? couple::Role::Boundary
+           : t == preprocess::OverlapTag::External ? couple::Role::External
+                                                   : couple::Role::Internal;
+  };
+  for (std::size_t d = 0; d < dem_ids.size(); ++d)
+    dem_ids[d] = 1'000'000'000'000 + static_cast<std::int64_t>(d);
+  for (std::size_t d = 0; d < fem_ids.size(); ++d)
+    fem_ids[d] = 2'000'000'000'000 + static_cast<std::int64_t>(d);
+  for (std::size_t k = 0; k < ov.pair_particle.size(); ++k) {
+    const std::uint32_t pi = ov.pair_particle[k], ni = ov.pair_node[k];
+    for (int a = 0; a < 2; ++a) {
+      dem_ids[2 * pi + a] = fem_ids[2 * ni + a] = static_cast<std::int64_t>(2 * k + a);
+      dem_roles[2 * pi + a] = role(ov.particle_tag[pi]);
+      fem_roles[2 * ni + a] = role(ov.node_tag[ni]);
+    }
+  }
+  return couple::make_overlap(fem_ids, fem_roles, dem_ids, dem_roles);
 }
 
 // ---- VTK series and pictures of one run ----
@@ -433,40 +506,10 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   } scoped_threads(opt.threads);
   const auto t0 = Clock::now();
   // ---- DEM partition: the lattice, bonded, rollers on the end particles of every column ----
-  dem::Settings ds;
-  ds.dt = m.dt_dem;
-  ds.contact_detection = false;  // elastic bonded lattice: no new contacts
-  dem::Simulation sim(2, ds);
-  dem::Material mat;
-  mat.density = m.rho;
-  mat.kn = m.kn;
-  mat.ks = m.ks;
-  const int mi = sim.add_material(mat);
-  sim.reserve(ov.particles.size());
-  for (const auto& x : ov.particles.x) sim.add_particle(x, ov.particles.radius, mi);
-  sim.bond_touching_pairs();
-  {
-    std::map<long, std::pair<std::uint32_t, std::uint32_t>> ends;  // column -> (lowest, highest)
-    for (std::uint32_t i = 0; i < ov.particles.size(); ++i) {
-      const long col = std::lround(ov.depth(ov.particles.x[i]) / ov.layer_spacing);
-      auto [it, fresh] = ends.try_emplace(col, i, i);
-      if (fresh) continue;
-      if (ov.particles.x[i][lat] < ov.particles.x[it->second.first][lat]) it->second.first = i;
-      if (ov.particles.x[i][lat] > ov.particles.x[it->second.second][lat]) it->second.second = i;
-    }
-    std::vector<std::uint32_t> rollers;
-    for (const auto& [col, e] : ends) rollers.push_back(e.first), rollers.push_back(e.second);
-    sim.add_to_group(rollers, "rollers");
-    sim.fix("rollers", lat == 0 ? dem::kX : dem::kY);
-  }
-  couple::DemPartition dem(std::move(sim));
+  couple::DemPartition dem(wave_dem(m));
 
   // ---- FEM partition: rollers on the lateral sides, the traction pulse on the far side ----
-  fem::SolverSettings fs;
-  fs.scheme = fem::scheme_from_string(r.fem_scheme);
-  fs.dt = r.dt_fem;
-  fem::Solver solver(fem_mesh(m), fs);
-  for (auto n : fem_roller_nodes(m)) solver.fix(2 * n + lat);
+  fem::Solver solver = wave_fem(m, r.fem_scheme, r.dt_fem);
   {
     std::vector<std::pair<double, std::uint32_t>> edge;  // (lateral coordinate, node)
     for (std::uint32_t n = 0; n < ov.fem.node_count(); ++n)
@@ -508,27 +551,7 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   couple::FemPartition fem(std::move(solver));
 
   // ---- overlap: one common id per coincident (particle, node) pair and axis ----
-  std::vector<std::int64_t> dem_ids(dem.dofs()), fem_ids(fem.dofs());
-  std::vector<couple::Role> dem_roles(dem.dofs(), couple::Role::Internal),
-      fem_roles(fem.dofs(), couple::Role::Internal);
-  auto role = [](preprocess::OverlapTag t) {
-    return t == preprocess::OverlapTag::Boundary   ? couple::Role::Boundary
-           : t == preprocess::OverlapTag::External ? couple::Role::External
-                                                   : couple::Role::Internal;
-  };
-  for (std::size_t d = 0; d < dem_ids.size(); ++d)
-    dem_ids[d] = 1'000'000'000'000 + static_cast<std::int64_t>(d);
-  for (std::size_t d = 0; d < fem_ids.size(); ++d)
-    fem_ids[d] = 2'000'000'000'000 + static_cast<std::int64_t>(d);
-  for (std::size_t k = 0; k < ov.pair_particle.size(); ++k) {
-    const std::uint32_t pi = ov.pair_particle[k], ni = ov.pair_node[k];
-    for (int a = 0; a < 2; ++a) {
-      dem_ids[2 * pi + a] = fem_ids[2 * ni + a] = static_cast<std::int64_t>(2 * k + a);
-      dem_roles[2 * pi + a] = role(ov.particle_tag[pi]);
-      fem_roles[2 * ni + a] = role(ov.node_tag[ni]);
-    }
-  }
-  couple::Coupler cp(fem, dem, couple::make_overlap(fem_ids, fem_roles, dem_ids, dem_roles), eta, mode);
+  couple::Coupler cp(fem, dem, wave_overlap(m, dem.dofs(), fem.dofs()), eta, mode);
 
   // ---- gauges ----
   auto band_velocity = [dir](const couple::Partition& f, const std::vector<std::size_t>& dofs,
@@ -685,17 +708,195 @@ void plot_png(const io::PlotRequest& pr) {
 
 }  // namespace
 
-int wave_report_cmd(const WaveOptions& in) {
-  WaveOptions opt = in;
+namespace {
+
+/// The wave's plots: R against η per wavelength, and the gauge signals of one run.
+void write_plots(const WaveModel& m, const WaveOptions& opt, const std::vector<WaveRun>& rows,
+                 const std::vector<couple::Execution>& modes, const fs::path& dir) {
+  io::PlotRequest pr;
+  pr.title = "coupled FEM-DEM wave: reflection coefficient against eta";
+  pr.x_label = "eta = dt_FEM / dt_DEM";
+  pr.y_label = "R = reflected / incident peak velocity";
+  pr.log_y = true;
+  pr.png = dir / "wave_sweep.png";
+  for (double l : opt.wavelengths) {
+    io::PlotSeries s{fmt::format("lambda = {:g} d", l), {}, {}, true, true};
+    for (const auto& r : rows)
+      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.r_peak > 0) {
+        s.x.push_back(r.eta);
+        s.y.push_back(r.r_peak);
+      }
+    if (!s.x.empty()) pr.series.push_back(std::move(s));
+    if (!m.embedded) continue;
+    io::PlotSeries s2{fmt::format("lambda = {:g} d, second interface (R2)", l), {}, {}, true, true};
+    for (const auto& r : rows)
+      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.r2_peak > 0) {
+        s2.x.push_back(r.eta);
+        s2.y.push_back(r.r2_peak);
+      }
+    if (!s2.x.empty()) pr.series.push_back(std::move(s2));
+  }
+  plot_png(pr);
+
+  // gauge signals of the middle wavelength's run at the smallest η
+  const double gl = opt.wavelengths[opt.wavelengths.size() / 2];
+  const WaveRun* g = nullptr;
+  for (const auto& r : rows)
+    if (r.status == "ok" && r.lambda_d == gl && (!g || r.eta < g->eta)) g = &r;
+  if (!g) return;
+  io::PlotRequest gp;
+  gp.title = fmt::format("gauge velocities: lambda = {:g} d, eta = {}, {}", g->lambda_d, g->eta,
+                         couple::to_string(g->mode));
+  gp.x_label = "time [us]";
+  gp.y_label = "velocity along the propagation direction [m/s]";
+  gp.png = dir / "wave_gauges.png";
+  io::PlotSeries f{"FEM gauge: incident, then reflected", {}, {}, false, true};
+  io::PlotSeries d{"DEM gauge: transmitted", {}, {}, false, true};
+  io::PlotSeries x{"FEM gauge, reflected window x 100", {}, {}, false, true};
+  for (std::size_t i = 0; i < g->t_fem.size(); ++i) {
+    f.x.push_back(1e6 * g->t_fem[i]);
+    f.y.push_back(g->v_fem[i]);
+    if (g->t_fem[i] >= g->t_ref - kBefore * g->pulse_T && g->t_fem[i] <= g->t_ref + kAfter * g->pulse_T) {
+      x.x.push_back(1e6 * g->t_fem[i]);
+      x.y.push_back(100 * g->v_fem[i]);
+    }
+  }
+  for (std::size_t i = 0; i < g->t_dem.size(); ++i) {
+    d.x.push_back(1e6 * g->t_dem[i]);
+    d.y.push_back(g->v_dem[i]);
+  }
+  gp.series = {std::move(f), std::move(d), std::move(x)};
+  if (m.embedded) {
+    io::PlotSeries e{"exit FEM gauge: after both interfaces", {}, {}, false, true};
+    io::PlotSeries x2{"FEM gauge, second interface's window x 100", {}, {}, false, true};
+    for (std::size_t i = 0; i < g->t_fem.size(); ++i) {
+      e.x.push_back(1e6 * g->t_fem[i]);
+      e.y.push_back(g->v_exit[i]);
+      if (g->t_fem[i] >= g->t_ref2 - kBefore * g->pulse_T && g->t_fem[i] <= g->t_ref2 + kAfter * g->pulse_T) {
+        x2.x.push_back(1e6 * g->t_fem[i]);
+        x2.y.push_back(100 * g->v_fem[i]);
+      }
+    }
+    gp.series.push_back(std::move(e));
+    gp.series.push_back(std::move(x2));
+  }
+  plot_png(gp);
+}
+
+std::string stability_text(const WaveModel& m, const WaveOptions& opt, const WaveStability& s) {
+  std::string out = fmt::format(
+      "coupled steps: DEM leapfrog at dt_DEM = {:.4g} s ({:g} x the hex lattice's critical step {:.4g} s), "
+      "FEM at eta*dt_DEM ({})\n",
+      m.dt_dem, opt.dt_fraction, m.dem_dt_crit,
+      opt.fem_scheme == "auto"
+          ? "auto: central-difference up to the FEM explicit limit, implicit-newmark above"
+          : opt.fem_scheme);
+  if (!s.per_eta.empty()) {
+    const auto& c = s.per_eta.front();
+    out += fmt::format(
+        "  DEM partition: limit {:.4g} s (libdem, overlap externals held; dt_DEM/limit = {:.3g}) -> {}\n",
+        c.dem_dt_crit, c.dt_dem / c.dem_dt_crit, c.dt_dem <= c.dem_dt_crit ? "ok" : "UNSTABLE");
+    out += fmt::format("  FEM partition: explicit limit {:.4g} s (rollers and overlap externals held)\n",
+                       c.fem_explicit_dt_crit);
+  }
+  for (const auto& c : s.per_eta) {
+    const bool refused = std::find(s.refused.begin(), s.refused.end(), c.eta) != s.refused.end();
+    out += fmt::format(
+        "  eta = {:>2}: dt_FEM = {:.4g} s = {:.3g} x the FEM explicit limit, {:.3g} x the DEM limit; {} -> "
+        "{}\n",
+        c.eta, c.dt_fem, c.dt_fem / c.fem_explicit_dt_crit, c.dt_fem / c.dem_dt_crit, c.fem_integrator,
+        refused ? "REFUSED" : "ok");
+    for (const auto& n : c.notes) out += "      note: " + n + "\n";
+    for (const auto& p : c.problems) out += "      refused: " + p + "\n";
+  }
+  const std::size_t modes = opt.modes == "both" ? 2 : 1;
+  out +=
+      fmt::format("sweep: wavelengths {} d; eta = {}; modes {}; {} coupled runs x {} repeat{}",
+                  fmt::join(opt.wavelengths, ", "), fmt::join(opt.etas, ", "), opt.modes,
+                  opt.wavelengths.size() * opt.etas.size() * modes, opt.repeats, opt.repeats == 1 ? "" : "s");
+  if (opt.frames > 0)
+    out += fmt::format("; then a series run (serial, eta = {}, {} frames)", opt.series_eta, opt.frames);
+  return out + "\n";
+}
+
+json stability_json(const WaveModel& m, const WaveOptions& opt, const WaveStability& s) {
+  json j = {{"case", "wave"},
+            {"title", opt.title},
+            {"geometry", m.geometry.string()},
+            {"particles", m.particles},
+            {"fem_nodes", m.fem_nodes},
+            {"fem_elements", m.fem_elements},
+            {"wave_speed_m_s", m.c},
+            {"dt_dem_s", m.dt_dem},
+            {"lattice_dt_limit_s", m.dem_dt_crit},
+            {"fem_explicit_dt_limit_s", m.fem_explicit_dt},
+            {"fem_scheme", opt.fem_scheme},
+            {"wavelengths_d", opt.wavelengths},
+            {"etas", opt.etas},
+            {"modes", opt.modes},
+            {"ok", s.problems.empty()}};
+  json etas = json::array();
+  for (const auto& c : s.per_eta)
+    etas.push_back({{"eta", c.eta},
+                    {"dt_fem_s", c.dt_fem},
+                    {"dem_dt_limit_s", c.dem_dt_crit},
+                    {"fem_explicit_dt_limit_s", c.fem_explicit_dt_crit},
+                    {"fem_integrator", c.fem_integrator},
+                    {"ok", c.ok},
+                    {"problems", c.problems},
+                    {"notes", c.notes}});
+  j["per_eta"] = etas;
+  return j;
+}
+
+json finite_or_null(double x) { return std::isfinite(x) ? json(x) : json(nullptr); }
+
+}  // namespace
+
+WaveOptions wave_report_defaults(WaveOptions opt) {
   if (opt.embedded && !opt.quick) {
-    if (opt.etas == WaveOptions{}.etas) opt.etas = {1, 2, 5};
-    if (opt.wavelengths == WaveOptions{}.wavelengths) opt.wavelengths = {20, 40};
+    if (opt.etas == kWaveEtas) opt.etas = kWaveEmbeddedEtas;
+    if (opt.wavelengths == kWaveWavelengths) opt.wavelengths = kWaveEmbeddedWavelengths;
   }
   if (opt.quick) {
     opt.etas = {1, 5};
     opt.wavelengths = {20};
   }
   if (opt.frames < 0) opt.frames = opt.quick ? 3 : 12;
+  return opt;
+}
+
+WaveStability wave_stability(const WaveModel& m, const WaveOptions& opt) {
+  WaveStability s;
+  for (int eta : opt.etas) {
+    // The partitions as run_wave builds them; the coupler's constructor makes the overlap's
+    // DOFs external, prepare() computes each partition's limit with them held.
+    couple::DemPartition dem(wave_dem(m));
+    couple::FemPartition fem(wave_fem(m, scheme_name(m, eta, opt.fem_scheme), eta * m.dt_dem));
+    couple::Coupler declare(fem, dem, wave_overlap(m, dem.dofs(), fem.dofs()), eta);
+    fem.prepare();
+    dem.prepare();
+    couple::CoupledStability cs = couple::coupled_stability(fem, dem, eta);
+    if (cs.dt_dem > cs.dem_dt_crit) s.dem_problem = true;
+    if (!cs.problems.empty()) {
+      s.refused.push_back(eta);
+      s.problems.push_back(fmt::format("eta = {}: {}", eta, fmt::join(cs.problems, "; ")));
+    }
+    s.per_eta.push_back(std::move(cs));
+  }
+  return s;
+}
+
+int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out) {
+  WaveOptions opt = in;
+  // A refusal points at the scene key when there is one, else it is a plain Input error.
+  auto refuse = [&](const std::string& key, const std::string& message) {
+    if (refuse_at) refuse_at(key, message);
+    fail(ErrorKind::Input, "{}", message);
+  };
+  if (opt.frames < 0) opt.frames = 12;
+  STRATA_CHECK(!opt.etas.empty(), Input, "report wave: no eta values");
+  STRATA_CHECK(!opt.wavelengths.empty(), Input, "report wave: no wavelengths");
   STRATA_CHECK(opt.series_eta >= 1, Input, "report wave: --series-eta {} must be an integer >= 1",
                opt.series_eta);
   for (int e : opt.etas) STRATA_CHECK(e >= 1, Input, "report wave: eta = {} must be an integer >= 1", e);
@@ -712,8 +913,23 @@ int wave_report_cmd(const WaveOptions& in) {
   if (opt.modes != "parallel") modes.push_back(couple::Execution::Serial);
   if (opt.modes != "serial") modes.push_back(couple::Execution::Parallel);
 
-  const WaveModel m = build_wave_model(opt);
-  for (double l : opt.wavelengths) (void)plan_of(m, opt, l);  // refuse a too long pulse before running
+  const WaveModel m = [&]() -> WaveModel {
+    try {
+      return build_wave_model(opt);
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::Input || !refuse_at) throw;
+      refuse_at("geometry", e.what());
+      throw;
+    }
+  }();
+  for (double l : opt.wavelengths) {  // refuse a too long pulse before running
+    try {
+      (void)plan_of(m, opt, l);
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::Input) throw;
+      refuse("wavelengths", e.what());
+    }
+  }
   const std::string header1 = fmt::format(
       "2D coupled wave (issue 6): {} ('{}' particles, '{}' FEM); {} particles of d = {:g} m (hex lattice, "
       "Kn = {:.4g} N/m, Ks = {:.4g} N/m, rho = {:g} kg/m^2), {} FEM nodes / {} linear triangles (plane "
@@ -744,8 +960,35 @@ int wave_report_cmd(const WaveOptions& in) {
                                 std::lround(m.dem_length / m.overlap.layer_spacing), m.exit_gauge_depth,
                                 m.exit_length)
                   : std::string());
-  std::fputs(header.c_str(), stdout);
+  const WaveStability stab = wave_stability(m, opt);
+  if (json_out) {
+    std::printf("%s\n", stability_json(m, opt, stab).dump(2).c_str());
+  } else {
+    if (!opt.title.empty()) std::printf("%s\n\n", opt.title.c_str());
+    std::fputs(header.c_str(), stdout);
+    std::fputs(stability_text(m, opt, stab).c_str(), stdout);
+  }
+  std::fflush(stdout);
+  if (opt.refuse_unstable_eta && !stab.problems.empty()) {
+    std::string why;
+    for (const auto& p : stab.problems) why += "\n  " + p;
+    if (stab.dem_problem)
+      refuse("dt_fraction", fmt::format("dt_DEM = {:.4g} s is above the DEM partition's limit: lower "
+                                        "dt_fraction{}",
+                                        m.dt_dem, why));
+    refuse(
+        opt.fem_scheme != "auto" ? "fem_scheme" : "eta",
+        fmt::format("eta = {} cannot run with fem_scheme = \"{}\": use \"auto\" or \"implicit-newmark\", or "
+                    "lower eta{}",
+                    fmt::join(stab.refused, ", "), opt.fem_scheme, why));
+  }
+  if (opt.check_only) return 0;
 
+  // Everything is validated: run the whole sweep into a staging folder, then move its files
+  // into the output folder all at once.
+  const auto t0 = Clock::now();
+  Staging stage(opt.output);
+  const fs::path& dir = stage.path();
   std::vector<WaveRun> rows;
   for (double l : opt.wavelengths)
     for (int eta : opt.etas)
@@ -768,9 +1011,8 @@ int wave_report_cmd(const WaveOptions& in) {
             a.v_fem == b.v_fem && a.v_dem == b.v_dem && a.dem_hash == b.dem_hash && a.fem_u == b.fem_u,
             Internal, "wave: serial and parallel runs differ at lambda = {} d, eta = {}", a.lambda_d, a.eta);
 
-  fs::create_directories(opt.output);
   {
-    io::CsvWriter csv(opt.output / "wave_sweep.csv",
+    io::CsvWriter csv(dir / "wave_sweep.csv",
                       {"lambda_d",   "eta",       "mode",        "fem_scheme",   "ok",           "dt_dem_s",
                        "dt_fem_s",   "fem_steps", "dem_steps",   "v0_m_s",       "incident_m_s", "R_peak",
                        "tail_floor", "R_energy",  "T_peak",      "T_energy",     "setup_s",      "wall_s",
@@ -808,13 +1050,13 @@ int wave_report_cmd(const WaveOptions& in) {
       "\nCSV codes: mode 0 serial, 1 parallel; fem_scheme 0 central-difference, 1 explicit-newmark, "
       "2 implicit-newmark; ok 1 = ok, 0 = refused by the coupler, -1 = unstable (a gauge above 2 v0) or blew "
       "up.\n";
-  std::ofstream(opt.output / "wave_sweep.md") << md;
+  std::ofstream(dir / "wave_sweep.md") << md;
   std::fwrite(md.data() + header.size(), 1, md.size() - header.size(), stdout);
 
   // VTK series (and pictures) of one representative run: serial, η = series_eta, the longest pulse
   if (opt.frames > 0) {
     WaveSeries ws;
-    ws.dir = opt.output / "series";
+    ws.dir = dir / "series";
     ws.frames = opt.frames;
     ws.pictures = !opt.no_plot;
     const double l = *std::max_element(opt.wavelengths.begin(), opt.wavelengths.end());
@@ -822,82 +1064,110 @@ int wave_report_cmd(const WaveOptions& in) {
     if (sr.status != "ok")
       log::warn("series run (lambda = {} d, eta = {}): {}", l, opt.series_eta, sr.status);
     std::printf("\nseries: lambda = %g d, eta = %d, serial: %d frames in %s (particles.pvd, fem.pvd)", l,
-                opt.series_eta, opt.frames, ws.dir.string().c_str());
+                opt.series_eta, opt.frames, (opt.output / "series").string().c_str());
     if (!ws.pngs.empty())
-      std::printf("; %zu pictures in %s", ws.pngs.size(), (ws.dir / "png").string().c_str());
+      std::printf("; %zu pictures in %s", ws.pngs.size(), (opt.output / "series" / "png").string().c_str());
     std::printf("\n");
   }
-  if (opt.no_plot) return 0;
+  if (!opt.no_plot) write_plots(m, opt, rows, modes, dir);
 
-  io::PlotRequest pr;
-  pr.title = "coupled FEM-DEM wave: reflection coefficient against eta";
-  pr.x_label = "eta = dt_FEM / dt_DEM";
-  pr.y_label = "R = reflected / incident peak velocity";
-  pr.log_y = true;
-  pr.png = opt.output / "wave_sweep.png";
-  for (double l : opt.wavelengths) {
-    io::PlotSeries s{fmt::format("lambda = {:g} d", l), {}, {}, true, true};
-    for (const auto& r : rows)
-      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.r_peak > 0) {
-        s.x.push_back(r.eta);
-        s.y.push_back(r.r_peak);
-      }
-    if (!s.x.empty()) pr.series.push_back(std::move(s));
-    if (!m.embedded) continue;
-    io::PlotSeries s2{fmt::format("lambda = {:g} d, second interface (R2)", l), {}, {}, true, true};
-    for (const auto& r : rows)
-      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.r2_peak > 0) {
-        s2.x.push_back(r.eta);
-        s2.y.push_back(r.r2_peak);
-      }
-    if (!s2.x.empty()) pr.series.push_back(std::move(s2));
-  }
-  plot_png(pr);
-
-  // gauge signals of the middle wavelength's run at the smallest η
-  const double gl = opt.wavelengths[opt.wavelengths.size() / 2];
-  const WaveRun* g = nullptr;
+  json summary = {{"status", "completed"},
+                  {"case", "wave"},
+                  {"title", opt.title},
+                  {"geometry", m.geometry.string()},
+                  {"embedded", m.embedded},
+                  {"dt_dem_s", m.dt_dem},
+                  {"wave_speed_m_s", m.c},
+                  {"fem_scheme", opt.fem_scheme},
+                  {"wavelengths_d", opt.wavelengths},
+                  {"etas", opt.etas},
+                  {"modes", opt.modes},
+                  {"wall_seconds", seconds_since(t0)}};
+  if (!opt.scene.empty()) summary["scene"] = opt.scene.string();
+  json jr = json::array();
   for (const auto& r : rows)
-    if (r.status == "ok" && r.lambda_d == gl && (!g || r.eta < g->eta)) g = &r;
-  if (!g) return 0;
-  io::PlotRequest gp;
-  gp.title = fmt::format("gauge velocities: lambda = {:g} d, eta = {}, {}", g->lambda_d, g->eta,
-                         couple::to_string(g->mode));
-  gp.x_label = "time [us]";
-  gp.y_label = "velocity along the propagation direction [m/s]";
-  gp.png = opt.output / "wave_gauges.png";
-  io::PlotSeries f{"FEM gauge: incident, then reflected", {}, {}, false, true};
-  io::PlotSeries d{"DEM gauge: transmitted", {}, {}, false, true};
-  io::PlotSeries x{"FEM gauge, reflected window x 100", {}, {}, false, true};
-  for (std::size_t i = 0; i < g->t_fem.size(); ++i) {
-    f.x.push_back(1e6 * g->t_fem[i]);
-    f.y.push_back(g->v_fem[i]);
-    if (g->t_fem[i] >= g->t_ref - kBefore * g->pulse_T && g->t_fem[i] <= g->t_ref + kAfter * g->pulse_T) {
-      x.x.push_back(1e6 * g->t_fem[i]);
-      x.y.push_back(100 * g->v_fem[i]);
-    }
-  }
-  for (std::size_t i = 0; i < g->t_dem.size(); ++i) {
-    d.x.push_back(1e6 * g->t_dem[i]);
-    d.y.push_back(g->v_dem[i]);
-  }
-  gp.series = {std::move(f), std::move(d), std::move(x)};
-  if (m.embedded) {
-    io::PlotSeries e{"exit FEM gauge: after both interfaces", {}, {}, false, true};
-    io::PlotSeries x2{"FEM gauge, second interface's window x 100", {}, {}, false, true};
-    for (std::size_t i = 0; i < g->t_fem.size(); ++i) {
-      e.x.push_back(1e6 * g->t_fem[i]);
-      e.y.push_back(g->v_exit[i]);
-      if (g->t_fem[i] >= g->t_ref2 - kBefore * g->pulse_T && g->t_fem[i] <= g->t_ref2 + kAfter * g->pulse_T) {
-        x2.x.push_back(1e6 * g->t_fem[i]);
-        x2.y.push_back(100 * g->v_fem[i]);
-      }
-    }
-    gp.series.push_back(std::move(e));
-    gp.series.push_back(std::move(x2));
-  }
-  plot_png(gp);
+    jr.push_back({{"lambda_d", r.lambda_d},
+                  {"eta", r.eta},
+                  {"mode", couple::to_string(r.mode)},
+                  {"fem_scheme", r.fem_scheme},
+                  {"status", r.status},
+                  {"R_peak", finite_or_null(r.r_peak)},
+                  {"R_energy", finite_or_null(r.r_energy)},
+                  {"T_peak", finite_or_null(r.t_peak)},
+                  {"T_energy", finite_or_null(r.t_energy)},
+                  {"R2_peak", finite_or_null(r.r2_peak)},
+                  {"T_exit_peak", finite_or_null(r.exit_peak)},
+                  {"wall_s", r.wall_s}});
+  summary["rows"] = jr;
+  std::ofstream(dir / "summary.json") << summary.dump(2) << "\n";
+
+  const auto written = stage.commit(opt.output);
+  std::printf("wrote:\n");
+  for (const auto& f : written) std::printf("  %s\n", f.string().c_str());
   return 0;
+}
+
+int wave_report_cmd(const WaveOptions& opt) { return wave_sweep(wave_report_defaults(opt)); }
+
+WaveOptions wave_scene_options(const scene::Scene& sc, bool force) {
+  STRATA_CHECK(sc.coupled() && sc.table("coupled").str("case") == "wave", Internal,
+               "wave_scene_options: {} is not a [coupled] scene with case = \"wave\"", sc.file.string());
+  const scene::Table& c = sc.table("coupled");
+  const scene::Table& out = sc.table("output");
+  WaveOptions o;
+  o.title = c.str("title");
+  o.scene = sc.file;
+  o.output = out.path("directory");
+  o.no_plot = !out.boolean("render");
+  o.geometry = c.path("geometry");
+  o.particle_region = c.str("particle_region");
+  o.fem_region = c.str("fem_region");
+  o.exit_region = c.str("exit_region");
+  o.embedded = c.boolean("embedded");
+  if (c.has("eta")) {
+    o.etas.clear();
+    for (std::int64_t e : c.integers("eta")) o.etas.push_back(static_cast<int>(e));
+  } else {
+    o.etas = o.embedded ? kWaveEmbeddedEtas : kWaveEtas;
+  }
+  o.wavelengths = c.has("wavelengths") ? c.reals("wavelengths")
+                  : o.embedded         ? kWaveEmbeddedWavelengths
+                                       : kWaveWavelengths;
+  o.modes = c.str("modes");
+  o.fem_scheme = c.str("fem_scheme");
+  o.d = c.real("diameter");
+  o.dt_fraction = c.real("dt_fraction");
+  o.fem_far_size = c.real("fem_far_size");
+  o.fem_growth = c.real("fem_growth");
+  o.peak_velocity = c.real("peak_velocity");
+  o.frames = static_cast<int>(c.integer("frames"));
+  o.series_eta = static_cast<int>(c.integer("series_eta"));
+  o.repeats = c.has("repeats") ? static_cast<int>(c.integer("repeats")) : 1;
+  o.threads = c.has("threads") ? static_cast<int>(c.integer("threads")) : WaveOptions{}.threads;
+  o.refuse_unstable_eta = !force;
+  return o;
+}
+
+namespace {
+WaveRefuse refuse_at_scene_key(const scene::Scene& sc) {
+  const scene::Table* c = &sc.table("coupled");
+  return [c](const std::string& key, const std::string& message) { c->fail(key, message); };
+}
+}  // namespace
+
+int check_wave_scene(const scene::Scene& sc, bool json_out, bool force) {
+  WaveOptions o = wave_scene_options(sc, force);
+  o.check_only = true;
+  if (!json_out) std::printf("scene        %s (coupled wave)\n", sc.file.string().c_str());
+  return wave_sweep(o, refuse_at_scene_key(sc), json_out);
+}
+
+int run_wave_scene(const scene::Scene& sc, const fs::path& output, bool force, int threads) {
+  WaveOptions o = wave_scene_options(sc, force);
+  if (!output.empty()) o.output = output;
+  if (threads >= 0) o.threads = threads;
+  std::printf("scene        %s (coupled wave)\n", sc.file.string().c_str());
+  return wave_sweep(o, refuse_at_scene_key(sc));
 }
 
 }  // namespace strata::app

@@ -47,10 +47,22 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
+namespace strata::scene {
+class Scene;
+}
+
 namespace strata::app {
+
+/// Sweep defaults that depend on the model (one place for `strata report wave` and scenes).
+inline const std::vector<int> kWaveEtas{1, 2, 4, 5, 10};
+inline const std::vector<double> kWaveWavelengths{10, 20, 40, 80};
+/// FEM | DEM | FEM: η = 10, stable with one interface, is not with two.
+inline const std::vector<int> kWaveEmbeddedEtas{1, 2, 5};
+inline const std::vector<double> kWaveEmbeddedWavelengths{20, 40};
 
 struct WaveOptions {
   std::filesystem::path output = "out/wave";  ///< directory for wave_sweep.{csv,md,png}, wave_gauges.png
@@ -62,10 +74,10 @@ struct WaveOptions {
   /// FEM | DEM | FEM defaults: geometry examples/04_coupled_wave/wave_embedded.geo, exit region
   /// "fem_exit", η ∈ {1, 2, 5}, λ ∈ {20, 40} d (η = 10, stable with one interface, is not with two).
   bool embedded = false;
-  std::vector<int> etas{1, 2, 4, 5, 10};            ///< integer η >= 1
-  std::string modes = "both";                       ///< serial, parallel or both
-  std::vector<double> wavelengths{10, 20, 40, 80};  ///< pulse length c·T in particle diameters
-  double d = 1e-3;                                  ///< particle diameter (m)
+  std::vector<int> etas = kWaveEtas;                   ///< integer η >= 1
+  std::string modes = "both";                          ///< serial, parallel or both
+  std::vector<double> wavelengths = kWaveWavelengths;  ///< pulse length c·T in particle diameters
+  double d = 1e-3;                                     ///< particle diameter (m)
   /// dt_DEM / (2/√λmax of the hex lattice). 0.15 keeps dt_FEM = η·dt_DEM <= 1.5 x the DEM
   /// limit up to η = 10: the overlap exchange itself was measured unstable from about 2.5 x
   /// (see examples/04_coupled_wave/README.md), whatever the FEM integrator.
@@ -84,8 +96,20 @@ struct WaveOptions {
   bool no_plot = false;
   /// Frames of the VTK series of one extra run (DIR/series); 0: none; -1: 12 (3 with quick).
   int frames = -1;
-  int series_eta = 1;  ///< η of the series run (serial, the longest pulse)
+  int series_eta = 1;       ///< η of the series run (serial, the longest pulse)
+  bool check_only = false;  ///< print the model and the stability numbers, then stop
+  /// Refuse the whole sweep (Input, exit 2, before it starts) when the coupler would refuse
+  /// an η (an explicit FEM above its limit, or dt_DEM above the DEM partition's). Otherwise
+  /// (`strata report wave`) such points show as "refused" rows.
+  bool refuse_unstable_eta = false;
+  std::string title;            ///< shown above the report and in summary.json
+  std::filesystem::path scene;  ///< the scene file (summary.json); empty for `strata report`
 };
+
+/// `strata report wave`'s defaults that depend on other flags: with `embedded`, η and λ
+/// still at their defaults become kWaveEmbedded*; `quick` sets η {1, 5}, λ {20}; frames -1
+/// becomes 12 (quick 3). A scene fills its options from its keys instead (wave_scene_options).
+WaveOptions wave_report_defaults(WaveOptions opt);
 
 /// VTK series and pictures of one run (run_wave writes them when given one).
 struct WaveSeries {
@@ -157,8 +181,41 @@ struct WaveRun {
 WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, int eta, couple::Execution mode,
                  const std::string& scheme, WaveSeries* series = nullptr);
 
-/// `strata report wave`: the sweep over wavelengths, η and modes; writes wave_sweep.csv,
-/// wave_sweep.md, wave_sweep.png and wave_gauges.png. Returns the exit status.
+/// The stability numbers of a planned sweep: each partition's limit and the coupler's own
+/// check (couple::coupled_stability, with its notes) at every η, from the partitions exactly
+/// as run_wave builds them.
+struct WaveStability {
+  std::vector<couple::CoupledStability> per_eta;
+  std::vector<int> refused;           ///< η the coupler would refuse
+  std::vector<std::string> problems;  ///< "eta = 10: why", for those η
+  bool dem_problem = false;           ///< dt_DEM itself is above the DEM partition's limit
+};
+WaveStability wave_stability(const WaveModel& m, const WaveOptions& opt);
+
+/// Where a refusal points: a scene key (file:line:col), or nowhere (empty) for `strata report`.
+using WaveRefuse = std::function<void(const std::string& key, const std::string& message)>;
+
+/// The one path behind `strata report wave` and `strata check|run` of a wave scene: validates
+/// `opt` (defaults already filled in), builds the model, prints it and the stability numbers
+/// (JSON with `json`), refuses (Input, exit 2; through `refuse` at the scene key) a pulse too
+/// long for the geometry and, with opt.refuse_unstable_eta, an η the coupler would refuse;
+/// stops there with opt.check_only; else runs the sweep over wavelengths, η and modes and
+/// writes wave_sweep.{csv,md,png}, wave_gauges.png, summary.json and series/ into opt.output
+/// all at once (through a staging folder: a failed sweep writes nothing). Returns the exit status.
+int wave_sweep(const WaveOptions& opt, const WaveRefuse& refuse = {}, bool json = false);
+
+/// `strata report wave`: wave_sweep(wave_report_defaults(opt)).
 int wave_report_cmd(const WaveOptions& opt);
+
+/// The options of a [coupled] scene with case = "wave" (geometry resolved relative to the
+/// scene file; η, λ, repeats and threads from the case's defaults when not given; output is
+/// output.directory, no_plot is !output.render, refuse_unstable_eta is !force).
+WaveOptions wave_scene_options(const scene::Scene& sc, bool force);
+/// `strata check SCENE` of a wave scene: the model and the stability numbers; exit 2 at the
+/// scene key when the sweep would be refused.
+int check_wave_scene(const scene::Scene& sc, bool json, bool force);
+/// `strata run SCENE` of a wave scene: the same checks, then the sweep, written to `output`
+/// (empty: output.directory); `threads` >= 0 overrides [coupled].threads.
+int run_wave_scene(const scene::Scene& sc, const std::filesystem::path& output, bool force, int threads);
 
 }  // namespace strata::app

@@ -632,7 +632,7 @@ class Loader {
       }
     }
 
-    // A coupled-chain scene ([coupled]) describes the whole model: particle and mesh tables
+    // A coupled scene ([coupled]) describes the whole model: particle and mesh tables
     // cannot be mixed with it, and of [output] only some keys apply.
     const toml::node* coupled_node = root.get("coupled");
     const bool coupled = coupled_node && coupled_node->is_table();
@@ -646,13 +646,13 @@ class Loader {
     for (const TableSpec& spec : schema()) {
       const toml::node* node = root.get(spec.name);
       std::vector<Table>& out = scene.entries[spec.name];
-      if (spec.name == "coupled" && !coupled) continue;  // no entry: not a coupled-chain scene
+      if (spec.name == "coupled" && !coupled) continue;  // no entry: not a coupled scene
       if (coupled &&
           std::find(coupled_tables.begin(), coupled_tables.end(), spec.name) == coupled_tables.end()) {
         if (node) {
           const toml::array* arr = node->as_array();
           report(arr && !arr->empty() ? pos_of((*arr)[0]) : pos_of(*node),
-                 fmt::format("{} cannot be mixed with [coupled] ({}): a coupled-chain scene describes the "
+                 fmt::format("{} cannot be mixed with [coupled] ({}): a coupled scene describes the "
                              "whole model in [coupled] and may hold besides only {} (keys {}); remove {} or "
                              "[coupled]",
                              bracket(spec), coupled_at, join(coupled_besides), join(coupled_keys),
@@ -666,7 +666,7 @@ class Loader {
           if (!find_key(spec, k.str()) ||
               std::find(coupled_keys.begin(), coupled_keys.end(), k.str()) != coupled_keys.end())
             continue;  // unknown keys are reported by check_table
-          report(pos_of(k, v), fmt::format("output.{} does not apply to a coupled-chain scene ([coupled] at "
+          report(pos_of(k, v), fmt::format("output.{} does not apply to a coupled scene ([coupled] at "
                                            "{}): its [output] takes only {}",
                                            k.str(), coupled_at, join(coupled_keys)));
         }
@@ -1066,19 +1066,31 @@ class Loader {
                        t.str(condition_key), first_sentence(find_key(spec, key)->doc)));
   }
 
-  /// Checks between the keys of [coupled] (stability needs the model: report.cpp).
+  /// Checks between the keys of [coupled] (stability needs the model: report.cpp, wave_report.cpp).
   void check_coupled(const Scene& scene) {
     const Table& c = scene.table("coupled");
+    const TableSpec& spec = *find_table("coupled");
     const std::string& name = c.str("case");
-    if (name != "metamaterial") {
-      for (const char* key : {"dt_ref", "pulse_amplitude", "pulse_duration"})
-        if (c.given(key))
-          report(c.where(key),
-                 fmt::format("{} applies only to case = \"metamaterial\" (this scene has case = "
-                             "\"{}\"); remove it",
-                             key, name));
+    // A key declared for other cases (KeySpec::cases) is refused, naming what this case takes.
+    for (const KeySpec& k : spec.keys) {
+      if (k.cases.empty() || !c.given(k.name) ||
+          std::find(k.cases.begin(), k.cases.end(), name) != k.cases.end())
+        continue;
+      std::vector<std::string> quoted;
+      for (const auto& other : k.cases) quoted.push_back("\"" + other + "\"");
+      report(c.where(k.name),
+             fmt::format("{} applies only to case = {} (this scene has case = \"{}\"); remove "
+                         "it (case = \"{}\" takes: {})",
+                         k.name, join(quoted, " or "), name, name, join(coupled_case_keys(name))));
     }
-    const auto& etas = c.integers("eta");
+    const bool wave = name == "wave";
+    if (wave) {
+      need(spec, c, "geometry", "case");
+    } else {
+      need(spec, c, "dt_dem", "case");
+    }
+    // Not given: the case's default list (the chains': the paper's, up to 20).
+    const std::vector<std::int64_t> etas = c.has("eta") ? c.integers("eta") : std::vector<std::int64_t>{20};
     for (std::size_t j = 0; j < etas.size(); ++j) {
       if (std::find(etas.begin(), etas.begin() + static_cast<std::ptrdiff_t>(j), etas[j]) !=
           etas.begin() + static_cast<std::ptrdiff_t>(j)) {
@@ -1086,7 +1098,7 @@ class Loader {
         break;
       }
     }
-    if (etas.empty()) return;
+    if (wave || etas.empty() || !c.has("dt_dem")) return;
     const double duration = c.real("duration") > 0 ? c.real("duration") : name == "chain6" ? 20.0 : 0.075;
     const std::int64_t eta_max = *std::max_element(etas.begin(), etas.end());
     const double dt_fem = static_cast<double>(eta_max) * c.real("dt_dem");

@@ -50,6 +50,11 @@ std::string allowed(const KeySpec& k) {
   const std::string range = range_text(k);
   if (!range.empty()) parts.push_back(list || k.type == Type::RealTable ? "each " + range : range);
   if (k.allow_inf) parts.push_back("`inf`");
+  if (!k.cases.empty()) {
+    std::string c;
+    for (const auto& name : k.cases) c += (c.empty() ? "" : " or ") + ("`" + name + "`");
+    parts.push_back("only for case " + c);
+  }
   std::string out;
   for (const auto& p : parts) out += (out.empty() ? "" : "; ") + p;
   return out;
@@ -57,6 +62,7 @@ std::string allowed(const KeySpec& k) {
 
 std::string default_text(const KeySpec& k) {
   if (k.required) return "**required**";
+  if (!k.default_note.empty()) return k.default_note;
   if (k.default_value.empty()) return "";
   return "`" + k.default_value + "`";
 }

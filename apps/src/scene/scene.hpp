@@ -57,6 +57,12 @@ struct KeySpec {
   /// written for 3D and cut to the dimension.
   bool per_axis = false;
   bool allow_inf = false;  ///< a Real that accepts `inf` (e.g. "never breaks")
+  /// [coupled] keys: the values of [coupled].case the key applies to (empty: every case). The
+  /// loader refuses a key given for another case, naming the keys that case takes.
+  std::vector<std::string> cases;
+  /// For a key whose default depends on other keys (no default_value): the reference's
+  /// default column, e.g. "per case: chain6, metamaterial `3`; wave `1`".
+  std::string default_note;
 };
 
 /// One declared table: a plain table ([solver]) or an array of tables ([[region]]).
@@ -146,8 +152,9 @@ class Scene {
   /// The entries of an array of tables (possibly empty).
   const std::vector<Table>& tables(const std::string& name) const;
 
-  /// A coupled-chain scene (SPEC C3): it has a [coupled] table, which describes the whole
-  /// model, and no particle or mesh tables ([scene], [[material]], [[region]], ...).
+  /// A coupled scene (SPEC C3 chains, or the 2D coupled wave of examples/04_coupled_wave): it
+  /// has a [coupled] table, which describes the whole model, and no particle or mesh tables
+  /// ([scene], [[material]], [[region]], ...).
   bool coupled() const { return !tables("coupled").empty(); }
 
   // Construction (used by the loader).
@@ -158,6 +165,8 @@ class Scene {
 /// apply to it (the sweep's files go to output.directory; output.render = false skips the plot).
 const std::vector<std::string>& coupled_scene_tables();
 const std::vector<std::string>& coupled_output_keys();
+/// The [coupled] keys that apply to `case_name` (KeySpec::cases), in schema order.
+std::vector<std::string> coupled_case_keys(const std::string& case_name);
 
 /// Reads, validates and returns a scene. `overrides` are "key=value" strings from `--set`,
 /// with keys like "solver.dt" or "region.specimen.diameter" / "region[0].diameter"; values
