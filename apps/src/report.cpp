@@ -150,17 +150,7 @@ json stability_json(const Plan& p, const Stability& s) {
     j["fem_partition"] = {{"omega_max_rad_s", s.meta->omega_fem},
                           {"explicit_dt_limit_s", s.meta->dt_fem_explicit}};
   }
-  json etas = json::array();
-  for (const auto& c : s.per_eta)
-    etas.push_back({{"eta", c.eta},
-                    {"dt_fem_s", c.dt_fem},
-                    {"dem_dt_limit_s", c.dem_dt_crit},
-                    {"fem_explicit_dt_limit_s", c.fem_explicit_dt_crit},
-                    {"fem_integrator", c.fem_integrator},
-                    {"ok", c.ok},
-                    {"problems", c.problems},
-                    {"notes", c.notes}});
-  j["per_eta"] = etas;
+  j["per_eta"] = per_eta_json(s.per_eta);
   if (!s.dt_problem.empty()) j["dt_problem"] = s.dt_problem;
   return j;
 }
@@ -335,6 +325,20 @@ std::vector<fs::path> Staging::commit(const fs::path& shown) {
   }
   std::sort(moved.begin(), moved.end());
   return moved;
+}
+
+json per_eta_json(const std::vector<couple::CoupledStability>& per_eta) {
+  json etas = json::array();
+  for (const auto& c : per_eta)
+    etas.push_back({{"eta", c.eta},
+                    {"dt_fem_s", c.dt_fem},
+                    {"dem_dt_limit_s", c.dem_dt_crit},
+                    {"fem_explicit_dt_limit_s", c.fem_explicit_dt_crit},
+                    {"fem_integrator", c.fem_integrator},
+                    {"ok", c.ok},
+                    {"problems", c.problems},
+                    {"notes", c.notes}});
+  return etas;
 }
 
 int report_cmd(const ReportOptions& opt) { return run_plan(resolve(opt), Refuse{}, opt.check_only); }

@@ -5,6 +5,10 @@
 /// coupled-chain scene ([coupled], see docs/scene-reference.md). A [coupled] scene with
 /// case = "wave" goes to the coupled wave's path instead (wave_report.hpp), through the same
 /// check_coupled_scene / run_coupled_scene.
+#include <strata/couple/coupler.hpp>
+
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -41,6 +45,10 @@ struct ReportOptions {
 /// the exit status. Throws strata::Error, e.g. Input for an unstable dt_DEM, which main() maps
 /// to exit status 2; nothing is written then, and the files appear in `output` all at once.
 int report_cmd(const ReportOptions& opt);
+
+/// The per-η stability checks of a coupled sweep as JSON (`strata check --json`,
+/// summary.json): step, limits, integrator, ok, problems, notes.
+nlohmann::json per_eta_json(const std::vector<couple::CoupledStability>& per_eta);
 
 /// The report options of a coupled-chain scene ([coupled], case chain6 or metamaterial);
 /// output is the scene's output.directory, no_plot is !output.render, refuse_unstable_eta is

@@ -835,17 +835,7 @@ json stability_json(const WaveModel& m, const WaveOptions& opt, const WaveStabil
             {"etas", opt.etas},
             {"modes", opt.modes},
             {"ok", s.problems.empty()}};
-  json etas = json::array();
-  for (const auto& c : s.per_eta)
-    etas.push_back({{"eta", c.eta},
-                    {"dt_fem_s", c.dt_fem},
-                    {"dem_dt_limit_s", c.dem_dt_crit},
-                    {"fem_explicit_dt_limit_s", c.fem_explicit_dt_crit},
-                    {"fem_integrator", c.fem_integrator},
-                    {"ok", c.ok},
-                    {"problems", c.problems},
-                    {"notes", c.notes}});
-  j["per_eta"] = etas;
+  j["per_eta"] = per_eta_json(s.per_eta);
   return j;
 }
 
