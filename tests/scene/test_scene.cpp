@@ -330,9 +330,10 @@ TEST(SceneErrors, FourAcceptanceErrorsHaveExactPositionsAndDifferentMessages) {
 // ---- other errors ----------------------------------------------------------------------------
 
 TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
-  EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
-            "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
-            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
+  EXPECT_EQ(
+      error_of(edit("[solver]", "[solvr]")),
+      "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
   EXPECT_EQ(
       error_of(edit("[[group]]", "[[groups]]")),
       "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
