@@ -128,6 +128,12 @@ WindowMeasure measure(const std::vector<double>& t, const std::vector<double>& v
   return w;
 }
 
+// measure() over the arrival window of a pulse of duration T that arrives at t_arrival.
+WindowMeasure measure_arrival(const std::vector<double>& t, const std::vector<double>& v, double t_arrival,
+                              double T) {
+  return measure(t, v, t_arrival - kBefore * T, t_arrival + kAfter * T);
+}
+
 // "auto": central difference while η·dt_DEM is below the FEM's explicit limit (rollers and
 // overlap externals held, computed once by build_wave_model), implicit Newmark above it.
 std::string scheme_name(const WaveModel& m, int eta, const std::string& scheme) {
@@ -600,9 +606,9 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   r.fem_u.assign(fem.solver().u().data(), fem.solver().u().data() + fem.solver().u().size());
 
   // ---- incident, reflected, transmitted ----
-  const WindowMeasure inc = measure(r.t_fem, r.v_fem, p.t_inc - kBefore * p.T, p.t_inc + kAfter * p.T);
-  const WindowMeasure ref = measure(r.t_fem, r.v_fem, p.t_ref - kBefore * p.T, p.t_ref + kAfter * p.T);
-  const WindowMeasure tra = measure(r.t_dem, r.v_dem, p.t_tra - kBefore * p.T, p.t_tra + kAfter * p.T);
+  const WindowMeasure inc = measure_arrival(r.t_fem, r.v_fem, p.t_inc, p.T);
+  const WindowMeasure ref = measure_arrival(r.t_fem, r.v_fem, p.t_ref, p.T);
+  const WindowMeasure tra = measure_arrival(r.t_dem, r.v_dem, p.t_tra, p.T);
   // what the FEM gauge sees between the incident and the reflected window (the incident
   // pulse's own dispersive tail): a floor under which R says nothing about the interface
   const double fa = std::max(p.t_inc + kAfter * p.T, p.t_ref - (kBefore + 1.5) * p.T),
@@ -614,8 +620,8 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   r.t_peak = tra.peak / inc.peak;
   r.t_energy = tra.energy / inc.energy;
   if (m.embedded) {
-    const WindowMeasure ref2 = measure(r.t_fem, r.v_fem, p.t_ref2 - kBefore * p.T, p.t_ref2 + kAfter * p.T);
-    const WindowMeasure ex = measure(r.t_fem, r.v_exit, p.t_exit - kBefore * p.T, p.t_exit + kAfter * p.T);
+    const WindowMeasure ref2 = measure_arrival(r.t_fem, r.v_fem, p.t_ref2, p.T);
+    const WindowMeasure ex = measure_arrival(r.t_fem, r.v_exit, p.t_exit, p.T);
     r.r2_peak = ref2.peak / inc.peak;
     r.r2_energy = ref2.energy / inc.energy;
     r.exit_peak = ex.peak / inc.peak;
@@ -710,6 +716,29 @@ void plot_png(const io::PlotRequest& pr) {
 
 namespace {
 
+// A gauge signal v(t) as a plot line, time in µs.
+io::PlotSeries gauge_series(std::string name, const std::vector<double>& t, const std::vector<double>& v) {
+  io::PlotSeries s{std::move(name), {}, {}, false, true};
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    s.x.push_back(1e6 * t[i]);
+    s.y.push_back(v[i]);
+  }
+  return s;
+}
+
+// 100·v(t) over the arrival window of a pulse of duration T that arrives at t_arrival
+// (the window measure_arrival() reads), so that a small reflection shows beside the incident pulse.
+io::PlotSeries window_series(std::string name, const std::vector<double>& t, const std::vector<double>& v,
+                             double t_arrival, double T) {
+  io::PlotSeries s{std::move(name), {}, {}, false, true};
+  for (std::size_t i = 0; i < t.size(); ++i)
+    if (t[i] >= t_arrival - kBefore * T && t[i] <= t_arrival + kAfter * T) {
+      s.x.push_back(1e6 * t[i]);
+      s.y.push_back(100 * v[i]);
+    }
+  return s;
+}
+
 /// The wave's plots: R against η per wavelength, and the gauge signals of one run.
 void write_plots(const WaveModel& m, const WaveOptions& opt, const std::vector<WaveRun>& rows,
                  const std::vector<couple::Execution>& modes, const fs::path& dir) {
@@ -719,22 +748,19 @@ void write_plots(const WaveModel& m, const WaveOptions& opt, const std::vector<W
   pr.y_label = "R = reflected / incident peak velocity";
   pr.log_y = true;
   pr.png = dir / "wave_sweep.png";
-  for (double l : opt.wavelengths) {
-    io::PlotSeries s{fmt::format("lambda = {:g} d", l), {}, {}, true, true};
+  // R (and, embedded, R2) against η of each wavelength's runs in the first mode
+  auto r_series = [&](std::string name, double l, double WaveRun::*peak) {
+    io::PlotSeries s{std::move(name), {}, {}, true, true};
     for (const auto& r : rows)
-      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.r_peak > 0) {
+      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.*peak > 0) {
         s.x.push_back(r.eta);
-        s.y.push_back(r.r_peak);
+        s.y.push_back(r.*peak);
       }
     if (!s.x.empty()) pr.series.push_back(std::move(s));
-    if (!m.embedded) continue;
-    io::PlotSeries s2{fmt::format("lambda = {:g} d, second interface (R2)", l), {}, {}, true, true};
-    for (const auto& r : rows)
-      if (r.lambda_d == l && r.mode == modes.front() && r.status == "ok" && r.r2_peak > 0) {
-        s2.x.push_back(r.eta);
-        s2.y.push_back(r.r2_peak);
-      }
-    if (!s2.x.empty()) pr.series.push_back(std::move(s2));
+  };
+  for (double l : opt.wavelengths) {
+    r_series(fmt::format("lambda = {:g} d", l), l, &WaveRun::r_peak);
+    if (m.embedded) r_series(fmt::format("lambda = {:g} d, second interface (R2)", l), l, &WaveRun::r2_peak);
   }
   plot_png(pr);
 
@@ -750,35 +776,13 @@ void write_plots(const WaveModel& m, const WaveOptions& opt, const std::vector<W
   gp.x_label = "time [us]";
   gp.y_label = "velocity along the propagation direction [m/s]";
   gp.png = dir / "wave_gauges.png";
-  io::PlotSeries f{"FEM gauge: incident, then reflected", {}, {}, false, true};
-  io::PlotSeries d{"DEM gauge: transmitted", {}, {}, false, true};
-  io::PlotSeries x{"FEM gauge, reflected window x 100", {}, {}, false, true};
-  for (std::size_t i = 0; i < g->t_fem.size(); ++i) {
-    f.x.push_back(1e6 * g->t_fem[i]);
-    f.y.push_back(g->v_fem[i]);
-    if (g->t_fem[i] >= g->t_ref - kBefore * g->pulse_T && g->t_fem[i] <= g->t_ref + kAfter * g->pulse_T) {
-      x.x.push_back(1e6 * g->t_fem[i]);
-      x.y.push_back(100 * g->v_fem[i]);
-    }
-  }
-  for (std::size_t i = 0; i < g->t_dem.size(); ++i) {
-    d.x.push_back(1e6 * g->t_dem[i]);
-    d.y.push_back(g->v_dem[i]);
-  }
-  gp.series = {std::move(f), std::move(d), std::move(x)};
+  gp.series = {gauge_series("FEM gauge: incident, then reflected", g->t_fem, g->v_fem),
+               gauge_series("DEM gauge: transmitted", g->t_dem, g->v_dem),
+               window_series("FEM gauge, reflected window x 100", g->t_fem, g->v_fem, g->t_ref, g->pulse_T)};
   if (m.embedded) {
-    io::PlotSeries e{"exit FEM gauge: after both interfaces", {}, {}, false, true};
-    io::PlotSeries x2{"FEM gauge, second interface's window x 100", {}, {}, false, true};
-    for (std::size_t i = 0; i < g->t_fem.size(); ++i) {
-      e.x.push_back(1e6 * g->t_fem[i]);
-      e.y.push_back(g->v_exit[i]);
-      if (g->t_fem[i] >= g->t_ref2 - kBefore * g->pulse_T && g->t_fem[i] <= g->t_ref2 + kAfter * g->pulse_T) {
-        x2.x.push_back(1e6 * g->t_fem[i]);
-        x2.y.push_back(100 * g->v_fem[i]);
-      }
-    }
-    gp.series.push_back(std::move(e));
-    gp.series.push_back(std::move(x2));
+    gp.series.push_back(gauge_series("exit FEM gauge: after both interfaces", g->t_fem, g->v_exit));
+    gp.series.push_back(window_series("FEM gauge, second interface's window x 100", g->t_fem, g->v_fem,
+                                      g->t_ref2, g->pulse_T));
   }
   plot_png(gp);
 }

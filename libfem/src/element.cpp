@@ -1,6 +1,8 @@
 #include <strata/core/error.hpp>
 #include <strata/fem/element.hpp>
 
+#include "strain_displacement.hpp"
+
 #include <Eigen/Dense>
 #include <cmath>
 
@@ -51,20 +53,21 @@ double p_wave_speed(const Material& m, ElementType t) {
 
 namespace {
 
-// K = scale · Bᵀ D B for a B with nstrain rows and nd columns (row-major).
-template <int NS, int ND>
-void btdb(const double (&B)[NS][ND], const double* D, double scale, ElementMatrices& out) {
-  double DB[NS][ND];
-  for (int i = 0; i < NS; ++i)
-    for (int j = 0; j < ND; ++j) {
+// K = scale · Bᵀ D B, with D the B.rows() x B.rows() elasticity matrix (row-major).
+void btdb(const StrainDisplacement& sd, const double* D, double scale, ElementMatrices& out) {
+  const auto& B = sd.B;
+  const Eigen::Index ns = B.rows(), nd = B.cols();
+  double DB[6][kMaxElementDofs];
+  for (Eigen::Index i = 0; i < ns; ++i)
+    for (Eigen::Index j = 0; j < nd; ++j) {
       double s = 0;
-      for (int k = 0; k < NS; ++k) s += D[i * NS + k] * B[k][j];
+      for (Eigen::Index k = 0; k < ns; ++k) s += D[i * ns + k] * B(k, j);
       DB[i][j] = s;
     }
-  for (int i = 0; i < ND; ++i)
-    for (int j = 0; j < ND; ++j) {
+  for (Eigen::Index i = 0; i < nd; ++i)
+    for (Eigen::Index j = 0; j < nd; ++j) {
       double s = 0;
-      for (int k = 0; k < NS; ++k) s += B[k][i] * DB[k][j];
+      for (Eigen::Index k = 0; k < ns; ++k) s += B(k, i) * DB[k][j];
       out.K[i][j] = scale * s;
     }
 }
@@ -89,15 +92,67 @@ double two_node_axis(const Mesh& mesh, std::int32_t a, std::int32_t b, double n[
   return L;
 }
 
+StrainDisplacement strain_displacement(const Mesh& mesh, ElementType type, std::size_t e,
+                                       const std::int32_t* node) {
+  auto X = [&](int a, int c) {
+    return mesh.x[static_cast<std::size_t>(c)][static_cast<std::size_t>(node[a])];
+  };
+  StrainDisplacement sd;
+  if (type == ElementType::Tri3) {
+    // Shape-function gradients ∂N_a/∂x = b_a/2A, ∂N_a/∂y = c_a/2A (constant over the element).
+    const double x1 = X(0, 0), y1 = X(0, 1), x2 = X(1, 0), y2 = X(1, 1), x3 = X(2, 0), y3 = X(2, 1);
+    const double two_a = (x2 - x1) * (y3 - y1) - (x3 - x1) * (y2 - y1);
+    STRATA_CHECK(std::abs(two_a) > 0, Input, "tri3 element {} (nodes {} {} {}) has zero area", e, node[0],
+                 node[1], node[2]);
+    const double b[3] = {y2 - y3, y3 - y1, y1 - y2}, c[3] = {x3 - x2, x1 - x3, x2 - x1};
+    sd.B.setZero(3, 6);
+    for (int a = 0; a < 3; ++a) {
+      sd.B(0, 2 * a) = b[a] / two_a;
+      sd.B(1, 2 * a + 1) = c[a] / two_a;
+      sd.B(2, 2 * a) = c[a] / two_a;
+      sd.B(2, 2 * a + 1) = b[a] / two_a;
+    }
+    sd.measure = 0.5 * std::abs(two_a);
+    return sd;
+  }
+  STRATA_ASSERT(type == ElementType::Tet4, "strain_displacement: a {} element has no B matrix",
+                to_string(type));
+  // ∇N_a from the inverse Jacobian of the map from the reference tetrahedron.
+  Eigen::Matrix3d J;
+  for (int a = 0; a < 3; ++a)
+    for (int c = 0; c < 3; ++c) J(c, a) = X(a + 1, c) - X(0, c);
+  const double det = J.determinant();
+  STRATA_CHECK(std::abs(det) > 0, Input, "tet4 element {} (nodes {} {} {} {}) has zero volume", e, node[0],
+               node[1], node[2], node[3]);
+  const Eigen::Matrix3d Ji = J.inverse();  // rows: gradients of the natural coordinates
+  double g[4][3];
+  for (int c = 0; c < 3; ++c) {
+    g[0][c] = -(Ji(0, c) + Ji(1, c) + Ji(2, c));
+    for (int a = 1; a < 4; ++a) g[a][c] = Ji(a - 1, c);
+  }
+  sd.B.setZero(6, 12);
+  for (int a = 0; a < 4; ++a) {
+    const double gx = g[a][0], gy = g[a][1], gz = g[a][2];
+    sd.B(0, 3 * a) = gx;
+    sd.B(1, 3 * a + 1) = gy;
+    sd.B(2, 3 * a + 2) = gz;
+    sd.B(3, 3 * a + 1) = gz;  // γ_yz
+    sd.B(3, 3 * a + 2) = gy;
+    sd.B(4, 3 * a) = gz;  // γ_xz
+    sd.B(4, 3 * a + 2) = gx;
+    sd.B(5, 3 * a) = gy;  // γ_xy
+    sd.B(5, 3 * a + 1) = gx;
+  }
+  sd.measure = std::abs(det) / 6;
+  return sd;
+}
+
 void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e, ElementMatrices& out) {
   const int npe = nodes_per_element(block.type), dim = mesh.dim;
   const Material& mat = block.material;
   out.nd = npe * dim;
   for (int a = 0; a < npe; ++a)
     out.node[a] = block.conn[e * static_cast<std::size_t>(npe) + static_cast<std::size_t>(a)];
-  auto X = [&](int a, int c) {
-    return mesh.x[static_cast<std::size_t>(c)][static_cast<std::size_t>(out.node[a])];
-  };
 
   switch (block.type) {
     case ElementType::Spring:
@@ -121,57 +176,16 @@ void element_matrices(const Mesh& mesh, const ElementBlock& block, std::size_t e
               out.K[a * dim + i][b * dim + j] = (a == b ? 1 : -1) * k * n[i] * n[j];
       return;
     }
-    case ElementType::Tri3: {
-      const double x1 = X(0, 0), y1 = X(0, 1), x2 = X(1, 0), y2 = X(1, 1), x3 = X(2, 0), y3 = X(2, 1);
-      const double two_a = (x2 - x1) * (y3 - y1) - (x3 - x1) * (y2 - y1);
-      STRATA_CHECK(std::abs(two_a) > 0, Input, "tri3 element {} (nodes {} {} {}) has zero area", e,
-                   out.node[0], out.node[1], out.node[2]);
-      const double b[3] = {y2 - y3, y3 - y1, y1 - y2}, c[3] = {x3 - x2, x1 - x3, x2 - x1};
-      double B[3][6] = {};
-      for (int a = 0; a < 3; ++a) {
-        B[0][2 * a] = b[a] / two_a;
-        B[1][2 * a + 1] = c[a] / two_a;
-        B[2][2 * a] = c[a] / two_a;
-        B[2][2 * a + 1] = b[a] / two_a;
-      }
-      double D[9];
-      elasticity_matrix(mat, block.type, D);
-      const double area = 0.5 * std::abs(two_a);
-      btdb(B, D, mat.thickness * area, out);
-      for (int a = 0; a < 3; ++a) out.m[a] = mat.rho * mat.thickness * area / 3;
-      return;
-    }
+    case ElementType::Tri3:
     case ElementType::Tet4: {
-      Eigen::Matrix3d J;
-      for (int a = 0; a < 3; ++a)
-        for (int c = 0; c < 3; ++c) J(c, a) = X(a + 1, c) - X(0, c);
-      const double det = J.determinant();
-      STRATA_CHECK(std::abs(det) > 0, Input, "tet4 element {} (nodes {} {} {} {}) has zero volume", e,
-                   out.node[0], out.node[1], out.node[2], out.node[3]);
-      const Eigen::Matrix3d Ji = J.inverse();  // rows: gradients of the natural coordinates
-      double g[4][3];
-      for (int c = 0; c < 3; ++c) {
-        g[0][c] = -(Ji(0, c) + Ji(1, c) + Ji(2, c));
-        for (int a = 1; a < 4; ++a) g[a][c] = Ji(a - 1, c);
-      }
-      double B[6][12] = {};
-      for (int a = 0; a < 4; ++a) {
-        const double gx = g[a][0], gy = g[a][1], gz = g[a][2];
-        B[0][3 * a] = gx;
-        B[1][3 * a + 1] = gy;
-        B[2][3 * a + 2] = gz;
-        B[3][3 * a + 1] = gz;  // γ_yz
-        B[3][3 * a + 2] = gy;
-        B[4][3 * a] = gz;  // γ_xz
-        B[4][3 * a + 2] = gx;
-        B[5][3 * a] = gy;  // γ_xy
-        B[5][3 * a + 1] = gx;
-      }
+      // Constant strain: K = t·A·Bᵀ D B and mass ρ·t·A/3 per node (Tri3, thickness t);
+      // K = V·Bᵀ D B and mass ρ·V/4 per node (Tet4).
+      const StrainDisplacement sd = strain_displacement(mesh, block.type, e, out.node);
       double D[36];
       elasticity_matrix(mat, block.type, D);
-      const double vol = std::abs(det) / 6;
-      btdb(B, D, vol, out);
-      for (int a = 0; a < 4; ++a) out.m[a] = mat.rho * vol / 4;
+      const double t = block.type == ElementType::Tri3 ? mat.thickness : 1.0;
+      btdb(sd, D, t * sd.measure, out);
+      for (int a = 0; a < npe; ++a) out.m[a] = mat.rho * t * sd.measure / npe;
       return;
     }
   }
