@@ -9,6 +9,8 @@
 #include <random>
 #include <string>
 
+#include "scene_fixtures.hpp"
+
 namespace cli_test {
 
 namespace fs = std::filesystem;
@@ -54,19 +56,7 @@ shear_strength = 3.690e4
 /// Platens of a 2D block: groups "top" and "bottom" (rows), the bottom fixed, the top
 /// moving down at `speed` (m/s).
 inline std::string platens(const std::string& speed) {
-  return R"(
-[[group]]
-name = "top"
-select = "top_row"
-
-[[group]]
-name = "bottom"
-select = "bottom_row"
-
-[[boundary]]
-group = "bottom"
-type = "fixed"
-
+  return "\n" + fixtures::kPlatenGroups + R"(
 [[boundary]]
 group = "top"
 type = "velocity"

@@ -2,15 +2,11 @@
 // stability numbers, and what is (not) written.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
-#include "cli_test_util.hpp"
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <random>
 #include <string>
+
+#include "cli_test_util.hpp"
+#include "scene_fixtures.hpp"
 
 namespace fs = std::filesystem;
 using namespace cli_test;
@@ -20,18 +16,7 @@ namespace {
 const fs::path kExample = fs::path(STRATA_SOURCE_DIR) / "examples" / "02_metamaterial_chain";
 
 /// A chain6 sweep small enough for a test (2 s simulated, two η, serial, no plot).
-const std::string kChain6 = R"toml([coupled]
-case = "chain6"
-dt_dem = 1e-4
-eta = [1, 20]
-modes = "serial"
-duration = 2.0
-repeats = 1
-
-[output]
-directory = "res"
-render = false
-)toml";
+const std::string kChain6 = fixtures::chain_scene("chain6", "1e-4", "1, 20", "duration = 2.0\nrepeats = 1\n");
 
 }  // namespace
 

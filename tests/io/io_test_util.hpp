@@ -1,5 +1,6 @@
 #pragma once
-// Helpers shared by the io tests: a fresh folder per test and a small hexagonal patch.
+// Helpers shared by the io tests: a fresh folder per test, a small hexagonal patch and a
+// tetrahedral box.
 #include <gtest/gtest.h>
 #include <strata/io/frame.hpp>
 
@@ -10,6 +11,8 @@
 #include <string>
 
 #include <unistd.h>
+
+#include "tet_box.hpp"
 
 namespace strata::io::test {
 namespace fs = std::filesystem;
@@ -81,47 +84,21 @@ inline Patch hex_patch(int cols, int rows, double r = 0.5e-3) {
   return p;
 }
 
-/// A cube [0, n]^3 (unit cells, each split into six tetrahedra along its main diagonal,
-/// conforming across faces) with point array "x" (the node's x) and cell array "cx" (the
-/// cell centroid's x); n = 1 and `extras` add a triangle and a line to test mixed cells.
+/// tet_box of tests/common (a cube [0, n]^3 of unit cells, six tetrahedra each, cell array
+/// "cx" = the cell centroid's x as Float32) with point array "x" (the node's x); n = 1 and
+/// `extras` add a triangle and a line to test mixed cells.
 inline MeshFrame tet_box(int n, bool extras = false) {
-  MeshFrame m;
-  m.dim = 3;
-  auto node = [n](int i, int j, int k) { return static_cast<std::int64_t>((k * (n + 1) + j) * (n + 1) + i); };
+  MeshFrame m = fixtures::tet_box(n, ArrayType::Float32);
   Array x{"x", 1, {}, ArrayType::Float64};
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        m.xyz.insert(m.xyz.end(), {double(i), double(j), double(k)});
-        x.values.push_back(i);
-      }
-  Array cx{"cx", 1, {}, ArrayType::Float32};
-  static constexpr int kPerm[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-        for (const auto& p : kPerm) {
-          int c[3] = {i, j, k};
-          std::int64_t v[4];
-          double sx = 0;
-          v[0] = node(c[0], c[1], c[2]);
-          sx += c[0];
-          for (int s = 0; s < 3; ++s) {
-            ++c[p[s]];
-            v[s + 1] = node(c[0], c[1], c[2]);
-            sx += c[0];
-          }
-          m.add_cell(CellType::Tetra, {v[0], v[1], v[2], v[3]});
-          cx.values.push_back(sx / 4);
-        }
-  if (extras) {
-    m.add_cell(CellType::Triangle, {0, 1, node(0, 1, 0)});
-    cx.values.push_back(1.0 / 3);
-    m.add_cell(CellType::Line, {0, node(0, 0, 1)});
-    cx.values.push_back(0);
-  }
+  for (std::size_t a = 0; a < m.nodes(); ++a) x.values.push_back(m.xyz[3 * a]);
   m.point_data = {x};
-  m.cell_data = {cx};
+  if (extras) {
+    auto& cx = m.cell_data[0].values;
+    m.add_cell(CellType::Triangle, {0, 1, fixtures::tet_box_node(n, 0, 1, 0)});
+    cx.push_back(1.0 / 3);
+    m.add_cell(CellType::Line, {0, fixtures::tet_box_node(n, 0, 0, 1)});
+    cx.push_back(0);
+  }
   return m;
 }
 

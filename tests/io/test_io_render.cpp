@@ -69,6 +69,36 @@ std::size_t distinct_colours(const Image& img) {
   for (const auto& p : img.pixels) c.insert(p[0] << 16 | p[1] << 8 | p[2]);
   return c.size();
 }
+
+/// An 8 x 8 x 8 cube of spheres (radius 0.5 on a unit grid) with "stress" = x - 3.5.
+PointCloud sphere_cube() {
+  PointCloud c;
+  c.dim = 3;
+  Array radius{std::string(kRadiusArray), 1, {}};
+  Array stress{"stress", 1, {}};
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 8; ++j)
+      for (int i = 0; i < 8; ++i) {
+        c.xyz.insert(c.xyz.end(), {1.0 * i, 1.0 * j, 1.0 * k});
+        radius.values.push_back(0.5);
+        stress.values.push_back(i - 3.5);
+      }
+  c.point_data = {radius, stress};
+  return c;
+}
+
+/// A 400 x 300 picture of `cloud` (sphere_cube) shaded by "stress" in the cool-warm colour
+/// map, written to `png`.
+RenderRequest stress_picture(const PointCloud& cloud, const fs::path& png) {
+  RenderRequest rq;
+  rq.particles = &cloud;
+  rq.png = png;
+  rq.style.width = 400;
+  rq.style.height = 300;
+  rq.style.field = "stress";
+  rq.style.colormap = Colormap::CoolWarm;
+  return rq;
+}
 }  // namespace
 
 TEST(IoDisplay, EnsureDisplayGivesAUsableDisplay) {
@@ -113,26 +143,9 @@ TEST_F(IoTest, RenderFrame2DShowsColouredParticlesAndCracks) {
 }
 
 TEST_F(IoTest, RenderFrame3DWithClipPlane) {
-  PointCloud c;
-  c.dim = 3;
-  Array radius{std::string(kRadiusArray), 1, {}};
-  Array stress{"stress", 1, {}};
-  for (int k = 0; k < 8; ++k)
-    for (int j = 0; j < 8; ++j)
-      for (int i = 0; i < 8; ++i) {
-        c.xyz.insert(c.xyz.end(), {1.0 * i, 1.0 * j, 1.0 * k});
-        radius.values.push_back(0.5);
-        stress.values.push_back(i - 3.5);
-      }
-  c.point_data = {radius, stress};
-  RenderRequest rq;
-  rq.particles = &c;
-  rq.png = dir_ / "cube.png";
-  rq.style.width = 400;
-  rq.style.height = 300;
-  rq.style.field = "stress";
+  const PointCloud c = sphere_cube();
+  RenderRequest rq = stress_picture(c, dir_ / "cube.png");
   rq.style.unit = "MPa";
-  rq.style.colormap = Colormap::CoolWarm;
   rq.style.clip_plane = std::array<double, 6>{3.5, 3.5, 3.5, 0, 0, 1};
   render_frame(rq);
   const Image img = read_png(rq.png);
@@ -157,23 +170,6 @@ std::size_t count_in_model_area(const Image& img, bool (*pred)(int r, int g, int
 bool warm(int r, int, int b) { return r > b + 60; }
 bool cool(int r, int, int b) { return b > r + 60; }
 bool not_background(int r, int g, int b) { return r < 245 || g < 245 || b < 245; }
-
-/// An 8 x 8 x 8 cube of spheres (radius 0.5 on a unit grid) with "stress" = x - 3.5.
-PointCloud sphere_cube() {
-  PointCloud c;
-  c.dim = 3;
-  Array radius{std::string(kRadiusArray), 1, {}};
-  Array stress{"stress", 1, {}};
-  for (int k = 0; k < 8; ++k)
-    for (int j = 0; j < 8; ++j)
-      for (int i = 0; i < 8; ++i) {
-        c.xyz.insert(c.xyz.end(), {1.0 * i, 1.0 * j, 1.0 * k});
-        radius.values.push_back(0.5);
-        stress.values.push_back(i - 3.5);
-      }
-  c.point_data = {radius, stress};
-  return c;
-}
 }  // namespace
 
 // The clip plane x > 3.5 (normal +x) removes exactly the spheres with stress > 0, which the
@@ -181,15 +177,9 @@ PointCloud sphere_cube() {
 // clipped one none in the model area, while cool (x < 3.5) spheres stay in both.
 TEST_F(IoTest, ClipPlaneRemovesTheNormalSide) {
   const PointCloud c = sphere_cube();
-  RenderRequest rq;
-  rq.particles = &c;
-  rq.style.width = 400;
-  rq.style.height = 300;
-  rq.style.field = "stress";
-  rq.style.colormap = Colormap::CoolWarm;
+  RenderRequest rq = stress_picture(c, dir_ / "whole.png");
   rq.style.range = std::array<double, 2>{-3.5, 3.5};
   rq.style.view_direction = {-1, -0.3, -0.5};  // from +x, so the warm side faces the camera
-  rq.png = dir_ / "whole.png";
   render_frame(rq);
   rq.style.clip_plane = std::array<double, 6>{3.5, 3.5, 3.5, 1, 0, 0};
   rq.png = dir_ / "clipped.png";

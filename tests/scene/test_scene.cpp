@@ -10,13 +10,15 @@
 #include <sstream>
 
 #include "scene/scene.hpp"
+#include "scene_fixtures.hpp"
 
 namespace fs = std::filesystem;
 using strata::scene::Scene;
 
 namespace {
 
-// A small valid 2D scene. The line numbers matter: the tests below point at them.
+// A small valid 2D scene. The line numbers matter: the tests below point at them
+// (kPlatenGroups is lines 17 to 27).
 const std::string kBase = R"toml([scene]
 title = "test"
 dimension = 2
@@ -33,18 +35,8 @@ material = "rock"
 diameter = 0.001
 size = [0.03, 0.03]
 
-[[group]]
-name = "top"
-select = "top_row"
-
-[[group]]
-name = "bottom"
-select = "bottom_row"
-
-[[boundary]]
-group = "bottom"
-type = "fixed"
-
+)toml" + fixtures::kPlatenGroups +
+                          R"toml(
 [solver]
 dt = 2e-8
 steps = 1000

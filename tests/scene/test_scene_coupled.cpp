@@ -11,23 +11,15 @@
 
 #include "report.hpp"
 #include "scene/scene.hpp"
+#include "scene_fixtures.hpp"
 #include "wave_report.hpp"
 
 using strata::scene::Scene;
 
 namespace {
 
-// The line numbers matter: the tests below point at them.
-const std::string kCoupled = R"toml([coupled]
-case = "metamaterial"
-dt_dem = 5e-5
-eta = [1, 2, 20]
-modes = "serial"
-
-[output]
-directory = "res"
-render = false
-)toml";
+// The line numbers matter: the tests below point at them (see chain_scene).
+const std::string kCoupled = fixtures::chain_scene("metamaterial", "5e-5", "1, 2, 20");
 
 std::string edit(const std::string& from, const std::string& to, std::string text = kCoupled) {
   const auto at = text.find(from);
