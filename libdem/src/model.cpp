@@ -906,96 +906,94 @@ class Model final : public ModelBase {
   /// How the bond pass gets a bond's rest length.
   enum Rest { kRadiusSum, kUniform, kPerBond };
 
-  template <bool kEnergy, Rest kRest>
-  void bond_block(int t, const Ctx& c, std::ptrdiff_t p0, std::ptrdiff_t pe, std::ptrdiff_t e) {
-    const std::uint32_t k0 = bonds.off[p0], k1 = bonds.off[pe];
-    const std::size_t m = k1 - k0;
-    Scratch& S = scratch[t];
-    S.fit(m);
-    const std::uint8_t* __restrict own = bond_owner.data() + k0;  // owner - p0
-    const std::uint32_t up0 = static_cast<std::uint32_t>(p0);
-    const double* __restrict X[D];
-    const double* __restrict V[D];
-    double* __restrict FB[D];
-    for (int a = 0; a < D; ++a) {
-      X[a] = x[a].data();
-      V[a] = v[a].data();
-      FB[a] = S.fb[a].data();
-    }
-    const double* __restrict R = rad.data();
-    const std::uint32_t* __restrict bj = bonds.j.data() + k0;
-    std::uint8_t* __restrict bst = bonds.st.data() + k0;
-    double* __restrict bus = bonds.us.data() + std::size_t{k0} * kNs;
-    // eccentric lattices: per-bond rest length and stiffness factor
-    const double* __restrict br0 = kRest == kPerBond ? bonds.r0.data() + k0 : nullptr;
-    const double* __restrict bkf = kRest == kPerBond ? bonds.kf.data() + k0 : nullptr;
-    const double d_uniform = uniform_diameter;  // = R[p] + R[j] exactly when all radii are equal
-    double* __restrict EN = S.en.data();
-    std::uint8_t* __restrict slow = S.slow.data();
-    const SolidLatticeLaw& L = laws[0];
-    const double dt = c.dt, kn0 = L.kn, ks0 = L.ks, mu = L.mu, fn_max = L.fn_max, fs0 = L.fs0;
+  /// Bond pass pointers of one block (indexed by the block's bond position q).
+  struct BondSpan {
+    const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf;
+    double *F0, *F1, *F2, *en, *us;
+    const std::uint8_t* own;
+    const std::uint32_t* j;
+    std::uint8_t *st, *slow;
+    std::uint32_t p0, e;
+  };
+
+  /// Bonds qa..qb-1 of a block through SolidLatticeLaw::apply written out for both kinds
+  /// of bond: intact (that stays intact) and, when kBroken, broken (friction only). Bitwise
+  /// & and selects instead of branches, so the loop vectorises; a bond left for the scalar
+  /// law (one breaking now, or a cross bond) keeps its stored state here. Without kBroken
+  /// every bond of the range must be intact: the broken-bond law (a square root and a
+  /// division per bond) is left out.
+  template <bool kEnergy, Rest kRest, bool kBroken>
+  void bond_span(const BondSpan& sp, const SolidLatticeLaw& L, double dt, double d_uniform, std::size_t qa,
+                 std::size_t qb) {
+    using namespace pair_state;
+    const double* __restrict X0 = sp.X0, * __restrict X1 = sp.X1, * __restrict X2 = sp.X2;
+    const double* __restrict V0 = sp.V0, * __restrict V1 = sp.V1, * __restrict V2 = sp.V2;
+    double* __restrict F0 = sp.F0, * __restrict F1 = sp.F1, * __restrict F2 = sp.F2;
+    const double* __restrict R = sp.R;
+    const double* __restrict br0 = sp.r0;
+    const double* __restrict bkf = sp.kf;
+    const std::uint8_t* __restrict own = sp.own;
+    const std::uint32_t* __restrict bj = sp.j;
+    std::uint8_t* __restrict bst = sp.st;
+    std::uint8_t* __restrict slow = sp.slow;
+    double* __restrict bus = sp.us;
+    double* __restrict EN = sp.en;
+    const std::uint32_t up0 = sp.p0, ee = sp.e;
+    const double kn0 = L.kn, ks0 = L.ks, mu = L.mu, fn_max = L.fn_max, fs0 = L.fs0;
     const double mu_b = L.friction_strengthens_bonds ? mu : 0.0;  // intact-bond friction term
-    const std::uint32_t ee = static_cast<std::uint32_t>(e);
-    if (nmat == 1) {
-      // SolidLatticeLaw::apply written out for both kinds of bond in the list: intact (that
-      // stays intact) and broken (friction only), with one pointer per axis (arrays of
-      // pointers keep GCC from vectorising the 3D loop). Bitwise & and selects instead of
-      // branches, so the loop vectorises; a bond left for the scalar law (one breaking now,
-      // or a cross bond) keeps its stored state here.
-      using namespace pair_state;
-      const double* __restrict X0 = X[0], * __restrict X1 = X[1], * __restrict X2 = X[D - 1];
-      const double* __restrict V0 = V[0], * __restrict V1 = V[1], * __restrict V2 = V[D - 1];
-      double* __restrict F0 = FB[0], * __restrict F1 = FB[1], * __restrict F2 = FB[D - 1];
-      const double ksb2 = ks0 * ks0;  // broken bonds: the material's stiffness
+    const double ksb2 = ks0 * ks0;                                // broken bonds: the material's stiffness
 #pragma GCC ivdep
-      for (std::size_t q = 0; q < m; ++q) {
-        const std::uint32_t p = up0 + own[q], j = bj[q];
-        const std::uint8_t st0 = bst[q];
-        double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
-        double len2 = n0 * n0 + n1 * n1;
-        if constexpr (D == 3) {
-          n2 = X2[j] - X2[p];
-          len2 += n2 * n2;
-        }
-        const double len = std::sqrt(len2);
-        const double inv = 1.0 / len;
-        n0 *= inv;
-        n1 *= inv;
-        if constexpr (D == 3) n2 *= inv;
-        double un, kn = kn0, ks = ks0;
-        if constexpr (kRest == kPerBond) {
-          un = br0[q] - len;
-          kn = kn0 * bkf[q];  // intact only
-          ks = ks0 * bkf[q];
-        } else if constexpr (kRest == kUniform) {
-          un = d_uniform - len;  // two gathers fewer
-        } else {
-          un = R[p] + R[j] - len;
-        }
-        // shear displacement with this step's increment, and its square
-        double us[3] = {0, 0, 0}, b[3] = {0, 0, 0};  // new and stored Us
-        if constexpr (D == 2) {
-          b[0] = bus[q];
-          us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
-        } else {
-          const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
-          const double dun = du0 * n0 + du1 * n1 + du2 * n2;
-          b[0] = bus[3 * q];
-          b[1] = bus[3 * q + 1];
-          b[2] = bus[3 * q + 2];
-          const double b0 = b[0], b1 = b[1], b2 = b[2];
-          const double usn = b0 * n0 + b1 * n1 + b2 * n2;
-          us[0] = (b0 - usn * n0) + (du0 - dun * n0);
-          us[1] = (b1 - usn * n1) + (du1 - dun * n1);
-          us[2] = (b2 - usn * n2) + (du2 - dun * n2);
-        }
-        double u2 = 0;
-        for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
-        // intact: Fn = Kn·Un, Fs = Ks·Us, limits (SPEC C1 eqs. 1-5)
-        const bool intact = st0 == kIntact;
-        const double fn_i = kn * un;
-        const double lim = fs0 + mu_b * std::max(fn_i, 0.0);  // = fs0 exactly when mu_b = 0
-        const bool holds = (fn_i >= -fn_max) & (u2 * (ks * ks) <= lim * lim);
+    for (std::size_t q = qa; q < qb; ++q) {
+      const std::uint32_t p = up0 + own[q], j = bj[q];
+      const std::uint8_t st0 = bst[q];
+      double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
+      double len2 = n0 * n0 + n1 * n1;
+      if constexpr (D == 3) {
+        n2 = X2[j] - X2[p];
+        len2 += n2 * n2;
+      }
+      const double len = std::sqrt(len2);
+      const double inv = 1.0 / len;
+      n0 *= inv;
+      n1 *= inv;
+      if constexpr (D == 3) n2 *= inv;
+      double un, kn = kn0, ks = ks0;
+      if constexpr (kRest == kPerBond) {
+        un = br0[q] - len;
+        kn = kn0 * bkf[q];  // intact only
+        ks = ks0 * bkf[q];
+      } else if constexpr (kRest == kUniform) {
+        un = d_uniform - len;  // two gathers fewer
+      } else {
+        un = R[p] + R[j] - len;
+      }
+      // shear displacement with this step's increment, and its square
+      double us[3] = {0, 0, 0}, b[3] = {0, 0, 0};  // new and stored Us
+      if constexpr (D == 2) {
+        b[0] = bus[q];
+        us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
+      } else {
+        const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
+        const double dun = du0 * n0 + du1 * n1 + du2 * n2;
+        b[0] = bus[3 * q];
+        b[1] = bus[3 * q + 1];
+        b[2] = bus[3 * q + 2];
+        const double b0 = b[0], b1 = b[1], b2 = b[2];
+        const double usn = b0 * n0 + b1 * n1 + b2 * n2;
+        us[0] = (b0 - usn * n0) + (du0 - dun * n0);
+        us[1] = (b1 - usn * n1) + (du1 - dun * n1);
+        us[2] = (b2 - usn * n2) + (du2 - dun * n2);
+      }
+      double u2 = 0;
+      for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
+      // intact: Fn = Kn·Un, Fs = Ks·Us, limits (SPEC C1 eqs. 1-5)
+      const bool intact = !kBroken || st0 == kIntact;
+      const double fn_i = kn * un;
+      const double lim = fs0 + mu_b * std::max(fn_i, 0.0);  // = fs0 exactly when mu_b = 0
+      const bool holds = (fn_i >= -fn_max) & (u2 * (ks * ks) <= lim * lim);
+      double fn = fn_i, kss = ks, uo[3] = {us[0], us[1], us[2]}, e_b = 0;
+      std::uint8_t st_b = st0;
+      if constexpr (kBroken) {
         // broken: open (Un <= 0) carries nothing and forgets Us; touching: Coulomb slip
         const bool touch = un > 0;
         const double fn_t = kn0 * un;
@@ -1008,35 +1006,91 @@ class Model final : public ModelBase {
           ub[a] = touch ? (slip ? us[a] * sc : us[a]) : 0.0;
           ub2 += ub[a] * ub[a];
         }
-        const std::uint8_t st_b =
-            touch ? static_cast<std::uint8_t>(st0 | kTouching |
-                                              ((!(st0 & kTouching) && (st0 & kSeparated)) ? kReclosed : 0))
-                  : static_cast<std::uint8_t>((st0 & ~kTouching) | kSeparated);
-        const bool fast = (j < ee) & (!intact | holds);
-        slow[q] = !fast;
-        const double fn = intact ? fn_i : (touch ? fn_t : 0.0);
-        const double kss = intact ? ks : ks0;
-        double uo[3];
+        st_b = touch ? static_cast<std::uint8_t>(st0 | kTouching |
+                                                 ((!(st0 & kTouching) && (st0 & kSeparated)) ? kReclosed : 0))
+                     : static_cast<std::uint8_t>((st0 & ~kTouching) | kSeparated);
+        fn = intact ? fn_i : (touch ? fn_t : 0.0);
+        kss = intact ? ks : ks0;
         for (int a = 0; a < kNs; ++a) uo[a] = intact ? us[a] : ub[a];
-        if constexpr (D == 2) {
-          bus[q] = fast ? uo[0] : b[0];
-        } else {
-          bus[3 * q] = fast ? uo[0] : b[0];
-          bus[3 * q + 1] = fast ? uo[1] : b[1];
-          bus[3 * q + 2] = fast ? uo[2] : b[2];
-        }
-        bst[q] = fast && !intact ? st_b : st0;
-        if constexpr (D == 2) {
-          F0[q] = -fn * n0 - kss * uo[0] * n1;
-          F1[q] = -fn * n1 + kss * uo[0] * n0;
-        } else {
-          F0[q] = -fn * n0 + kss * uo[0];
-          F1[q] = -fn * n1 + kss * uo[1];
-          F2[q] = -fn * n2 + kss * uo[2];
-        }
-        if constexpr (kEnergy)
-          EN[q] = intact ? 0.5 * kn * un * un + 0.5 * ks * u2
-                         : (touch ? 0.5 * kn0 * un * un + 0.5 * ks0 * ub2 : 0.0);
+        if constexpr (kEnergy) e_b = touch ? 0.5 * kn0 * un * un + 0.5 * ks0 * ub2 : 0.0;
+      }
+      const bool fast = (j < ee) & (!intact | holds);
+      slow[q] = !fast;
+      if constexpr (D == 2) {
+        bus[q] = fast ? uo[0] : b[0];
+      } else {
+        bus[3 * q] = fast ? uo[0] : b[0];
+        bus[3 * q + 1] = fast ? uo[1] : b[1];
+        bus[3 * q + 2] = fast ? uo[2] : b[2];
+      }
+      if constexpr (kBroken) bst[q] = fast && !intact ? st_b : st0;
+      if constexpr (D == 2) {
+        F0[q] = -fn * n0 - kss * uo[0] * n1;
+        F1[q] = -fn * n1 + kss * uo[0] * n0;
+      } else {
+        F0[q] = -fn * n0 + kss * uo[0];
+        F1[q] = -fn * n1 + kss * uo[1];
+        F2[q] = -fn * n2 + kss * uo[2];
+      }
+      if constexpr (kEnergy) EN[q] = intact ? 0.5 * kn * un * un + 0.5 * ks * u2 : e_b;
+    }
+  }
+
+  template <bool kEnergy, Rest kRest>
+  void bond_block(int t, const Ctx& c, std::ptrdiff_t p0, std::ptrdiff_t pe, std::ptrdiff_t e) {
+    const std::uint32_t k0 = bonds.off[p0], k1 = bonds.off[pe];
+    const std::size_t m = k1 - k0;
+    Scratch& S = scratch[t];
+    S.fit(m);
+    const std::uint8_t* own = bond_owner.data() + k0;  // owner - p0
+    const std::uint32_t up0 = static_cast<std::uint32_t>(p0);
+    const double* X[D];
+    const double* V[D];
+    double* FB[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = x[a].data();
+      V[a] = v[a].data();
+      FB[a] = S.fb[a].data();
+    }
+    const std::uint32_t* bj = bonds.j.data() + k0;
+    double* EN = S.en.data();
+    std::uint8_t* slow = S.slow.data();
+    const double dt = c.dt;
+    const std::uint32_t ee = static_cast<std::uint32_t>(e);
+    if (nmat == 1) {
+      // one pointer per axis (arrays of pointers keep GCC from vectorising the 3D loop)
+      const BondSpan sp{X[0],
+                        X[1],
+                        X[D - 1],
+                        V[0],
+                        V[1],
+                        V[D - 1],
+                        rad.data(),
+                        kRest == kPerBond ? bonds.r0.data() + k0 : nullptr,
+                        kRest == kPerBond ? bonds.kf.data() + k0 : nullptr,
+                        FB[0],
+                        FB[1],
+                        FB[D - 1],
+                        EN,
+                        bonds.us.data() + std::size_t{k0} * kNs,
+                        own,
+                        bj,
+                        bonds.st.data() + k0,
+                        slow,
+                        up0,
+                        ee};
+      // chunks of bonds with no broken bond (nearly all of an unbroken lattice) skip the
+      // broken-bond law; the others take the full one
+      constexpr std::size_t kChunk = 64;
+      const std::uint8_t* stq = sp.st;
+      for (std::size_t qa = 0; qa < m; qa += kChunk) {
+        const std::size_t qb = std::min(m, qa + kChunk);
+        std::uint8_t any = 0;
+        for (std::size_t q = qa; q < qb; ++q) any |= stq[q];
+        if (any == pair_state::kIntact)
+          bond_span<kEnergy, kRest, false>(sp, laws[0], dt, uniform_diameter, qa, qb);
+        else
+          bond_span<kEnergy, kRest, true>(sp, laws[0], dt, uniform_diameter, qa, qb);
       }
     } else {
       std::fill(slow, slow + m, std::uint8_t{1});
