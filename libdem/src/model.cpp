@@ -1462,21 +1462,23 @@ class Model final : public ModelBase {
   }
 
   // K·u over intact bonds and touching contacts: (K u)_i = Σ_b K_b (u_i - u_j),
-  // K_b = Kn·n nᵀ + Ks·(I - n nᵀ).
+  // K_b = Kn·n nᵀ + Ks·(I - n nᵀ). The stiff pairs owned by particle p:
+  template <typename Fn>
+  void stiff_pairs_of(std::size_t p, Fn&& fn) const {
+    for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
+      const std::uint32_t j = bonds.j[k];
+      const double r = rest_of(bonds, k, p, j);
+      const bool on = (bonds.st[k] & pair_state::kKindMask) == pair_state::kIntact || dist2(p, j) < r * r;
+      if (on) fn(p, j, law_for(bonds, k, p, j));
+    }
+    for (std::uint32_t k = contacts.off[p]; k < contacts.off[p + 1]; ++k) {
+      const std::uint32_t j = contacts.j[k];
+      if (dist2(p, j) < (rad[p] + rad[j]) * (rad[p] + rad[j])) fn(p, j, law_of(p, j));
+    }
+  }
   template <typename Fn>
   void for_each_stiff_pair(Fn&& fn) const {
-    for (std::size_t p = 0; p < n(); ++p) {
-      for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
-        const std::uint32_t j = bonds.j[k];
-        const double r = rest_of(bonds, k, p, j);
-        const bool on = (bonds.st[k] & pair_state::kKindMask) == pair_state::kIntact || dist2(p, j) < r * r;
-        if (on) fn(p, j, law_for(bonds, k, p, j));
-      }
-      for (std::uint32_t k = contacts.off[p]; k < contacts.off[p + 1]; ++k) {
-        const std::uint32_t j = contacts.j[k];
-        if (dist2(p, j) < (rad[p] + rad[j]) * (rad[p] + rad[j])) fn(p, j, law_of(p, j));
-      }
-    }
+    for (std::size_t p = 0; p < n(); ++p) stiff_pairs_of(p, fn);
   }
 
   void pair_matrix(std::size_t p, std::uint32_t j, const SolidLatticeLaw& law, double K[D][D]) const {
@@ -1547,6 +1549,18 @@ class Model final : public ModelBase {
     return n() * D <= 20000 ? lanczos_impl<double>() : lanczos_impl<float>();
   }
 
+  /// Set-up loops over fixed chunks of particles: f(c) for c in [0, nc), the chunks split
+  /// evenly over the threads (one thread for small models, as for_range).
+  template <typename F>
+  void for_chunks(std::ptrdiff_t nc, F&& f) const {
+    const int nt = static_cast<std::ptrdiff_t>(n()) < 2 * std::max(1, settings.min_particles_per_thread)
+                       ? 1
+                       : static_cast<int>(std::min<std::ptrdiff_t>(par::threads(), nc));
+    par::parallel_team(nt, [&](int t, int team) {
+      for (std::ptrdiff_t c = nc * t / team; c < nc * (t + 1) / team; ++c) f(c);
+    });
+  }
+
   template <typename Real>
   double lanczos_impl() const {
     const std::size_t N = n(), nd = N * D;
@@ -1560,31 +1574,60 @@ class Model final : public ModelBase {
     }
     nrm = std::sqrt(nrm);
     for (std::size_t i = 0; i < nd; ++i) q[i] = static_cast<Real>(hash_unit(i) / nrm);
+    // w = M^-½ K M^-½ q in parallel, the same for any thread count: each chunk of particles
+    // sums its pairs into its own entries in pair order; the parts that land in later
+    // chunks are kept per chunk and subtracted afterwards, in chunk order.
+    constexpr std::size_t kChunk = 1024;
+    struct Cross {
+      std::uint32_t j;
+      Real t[D];
+    };
+    const std::size_t nc = (N + kChunk - 1) / kChunk;
+    std::vector<std::vector<Cross>> cross(nc);
+    auto matvec = [&] {
+      for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
+        const std::size_t lo = static_cast<std::size_t>(c) * kChunk, hi = std::min(N, lo + kChunk);
+        std::fill(w.begin() + static_cast<std::ptrdiff_t>(lo * D),
+                  w.begin() + static_cast<std::ptrdiff_t>(hi * D), Real(0));
+        auto& out = cross[static_cast<std::size_t>(c)];
+        out.clear();
+        for (std::size_t p = lo; p < hi; ++p)
+          stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const SolidLatticeLaw& law) {
+            double K[D][D];
+            pair_matrix(pp, j, law, K);
+            const double sp = std::sqrt(im[pp]), sj = std::sqrt(im[j]);
+            double du[D];
+            for (int a = 0; a < D; ++a) du[a] = q[pp * D + a] * sp - q[std::size_t{j} * D + a] * sj;
+            Cross cr{j, {}};
+            for (int a = 0; a < D; ++a) {
+              double t = 0;
+              for (int b2 = 0; b2 < D; ++b2) t += K[a][b2] * du[b2];
+              w[pp * D + a] += static_cast<Real>(t * sp);
+              cr.t[a] = static_cast<Real>(t * sj);
+            }
+            if (j < hi) {
+              for (int a = 0; a < D; ++a) w[std::size_t{j} * D + a] -= cr.t[a];
+            } else {
+              out.push_back(cr);
+            }
+          });
+      });
+      for (const auto& out : cross)
+        for (const Cross& cr : out)
+          for (int a = 0; a < D; ++a) w[std::size_t{cr.j} * D + a] -= cr.t[a];
+    };
+    const auto ndi = static_cast<std::ptrdiff_t>(nd);
     std::vector<double> al, be, basis;
     double beta = 0;
     for (int it = 0; it < kmax; ++it) {
       if (full) basis.insert(basis.end(), q.begin(), q.end());
-      std::fill(w.begin(), w.end(), Real(0));
-      for_each_stiff_pair([&](std::size_t p, std::uint32_t j, const SolidLatticeLaw& law) {
-        double K[D][D];
-        pair_matrix(p, j, law, K);
-        const double sp = std::sqrt(im[p]), sj = std::sqrt(im[j]);
-        double du[D];
-        for (int a = 0; a < D; ++a) du[a] = q[p * D + a] * sp - q[std::size_t{j} * D + a] * sj;
-        for (int a = 0; a < D; ++a) {
-          double t = 0;
-          for (int b2 = 0; b2 < D; ++b2) t += K[a][b2] * du[b2];
-          w[p * D + a] += static_cast<Real>(t * sp);
-          w[std::size_t{j} * D + a] -= static_cast<Real>(t * sj);
-        }
-      });
-      double alpha = 0;
-      for (std::size_t i = 0; i < nd; ++i) alpha += static_cast<double>(w[i]) * q[i];
-      double b2 = 0;
-      for (std::size_t i = 0; i < nd; ++i) {
-        w[i] = static_cast<Real>(w[i] - alpha * q[i] - beta * qp[i]);
-        b2 += static_cast<double>(w[i]) * w[i];
-      }
+      matvec();
+      const double alpha =
+          par::parallel_sum<double>(ndi, [&](std::ptrdiff_t i) { return static_cast<double>(w[i]) * q[i]; });
+      par::parallel_for(
+          ndi, [&](std::ptrdiff_t i) { w[i] = static_cast<Real>(w[i] - alpha * q[i] - beta * qp[i]); });
+      double b2 =
+          par::parallel_sum<double>(ndi, [&](std::ptrdiff_t i) { return static_cast<double>(w[i]) * w[i]; });
       if (full) {
         for (int pass = 0; pass < 2; ++pass)
           for (int c = 0; c <= it; ++c) {
@@ -1600,10 +1643,10 @@ class Model final : public ModelBase {
       beta = std::sqrt(b2);
       if (beta < 1e-12 * std::abs(alpha) || it == kmax - 1) break;
       be.push_back(beta);
-      for (std::size_t i = 0; i < nd; ++i) {
+      par::parallel_for(ndi, [&](std::ptrdiff_t i) {
         qp[i] = q[i];
         q[i] = static_cast<Real>(w[i] / beta);
-      }
+      });
     }
     const int k = static_cast<int>(al.size());
     Eigen::VectorXd dg(k), sd(std::max(k - 1, 0));
