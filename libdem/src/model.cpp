@@ -1593,15 +1593,23 @@ class Model final : public ModelBase {
         out.clear();
         for (std::size_t p = lo; p < hi; ++p)
           stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const SolidLatticeLaw& law) {
-            double K[D][D];
-            pair_matrix(pp, j, law, K);
+            // K_b du = Ks·du + (Kn - Ks)·n (n·du)
+            double nv[D], l2 = 0;
+            for (int a = 0; a < D; ++a) {
+              nv[a] = x[a][j] - x[a][pp];
+              l2 += nv[a] * nv[a];
+            }
+            const double l = std::sqrt(l2);
             const double sp = std::sqrt(im[pp]), sj = std::sqrt(im[j]);
-            double du[D];
-            for (int a = 0; a < D; ++a) du[a] = q[pp * D + a] * sp - q[std::size_t{j} * D + a] * sj;
+            double du[D], ndu = 0;
+            for (int a = 0; a < D; ++a) {
+              nv[a] /= l;
+              du[a] = q[pp * D + a] * sp - q[std::size_t{j} * D + a] * sj;
+              ndu += nv[a] * du[a];
+            }
             Cross cr{j, {}};
             for (int a = 0; a < D; ++a) {
-              double t = 0;
-              for (int b2 = 0; b2 < D; ++b2) t += K[a][b2] * du[b2];
+              const double t = law.ks * du[a] + (law.kn - law.ks) * ndu * nv[a];
               w[pp * D + a] += static_cast<Real>(t * sp);
               cr.t[a] = static_cast<Real>(t * sj);
             }
