@@ -906,6 +906,9 @@ class Model final : public ModelBase {
   /// How the bond pass gets a bond's rest length.
   enum Rest { kRadiusSum, kUniform, kPerBond };
 
+  /// Bonds per chunk of the bond pass (see bond_block).
+  static constexpr std::size_t kChunk = 64;
+
   /// Bond pass pointers of one block (indexed by the block's bond position q).
   struct BondSpan {
     const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf;
@@ -942,10 +945,22 @@ class Model final : public ModelBase {
     const double kn0 = L.kn, ks0 = L.ks, mu = L.mu, fn_max = L.fn_max, fs0 = L.fs0;
     const double mu_b = L.friction_strengthens_bonds ? mu : 0.0;  // intact-bond friction term
     const double ksb2 = ks0 * ks0;                                // broken bonds: the material's stiffness
-#pragma GCC ivdep
-    for (std::size_t q = qa; q < qb; ++q) {
-      const std::uint32_t p = up0 + own[q], j = bj[q];
-      const std::uint8_t st0 = bst[q];
+    // Endpoints, states and verdicts in 64-bit lanes: with a byte-sized type in the loop GCC
+    // vectorises 64 bonds at a time (8 registers per double) and spills.
+    const std::size_t len_q = qb - qa;
+    alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
+    alignas(64) double NU[kNs][kChunk];  // new shear displacements (stored for fast bonds only)
+    for (std::size_t i = 0; i < len_q; ++i) {
+      P[i] = up0 + own[qa + i];
+      J[i] = bj[qa + i];
+      if constexpr (kBroken) ST[i] = bst[qa + i];
+    }
+    const std::int64_t ee64 = ee;
+#pragma omp simd
+    for (std::size_t i = 0; i < len_q; ++i) {
+      const std::size_t q = qa + i;
+      const std::int64_t p = P[i], j = J[i];
+      const std::int64_t st0 = kBroken ? ST[i] : std::int64_t{kIntact};
       double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
       double len2 = n0 * n0 + n1 * n1;
       if constexpr (D == 3) {
@@ -992,7 +1007,7 @@ class Model final : public ModelBase {
       const double lim = fs0 + mu_b * std::max(fn_i, 0.0);  // = fs0 exactly when mu_b = 0
       const bool holds = (fn_i >= -fn_max) & (u2 * (ks * ks) <= lim * lim);
       double fn = fn_i, kss = ks, uo[3] = {us[0], us[1], us[2]}, e_b = 0;
-      std::uint8_t st_b = st0;
+      std::int64_t st_b = st0;
       if constexpr (kBroken) {
         // broken: open (Un <= 0) carries nothing and forgets Us; touching: Coulomb slip
         const bool touch = un > 0;
@@ -1001,29 +1016,26 @@ class Model final : public ModelBase {
         const double fs2 = u2 * ksb2;
         const double sc = cap / std::sqrt(fs2);
         const bool slip = fs2 > cap * cap;
+        const double fslip = slip ? sc : 1.0;  // us·1.0 is us exactly
         double ub[3], ub2 = 0;
         for (int a = 0; a < kNs; ++a) {
-          ub[a] = touch ? (slip ? us[a] * sc : us[a]) : 0.0;
+          ub[a] = touch ? us[a] * fslip : 0.0;
           ub2 += ub[a] * ub[a];
         }
-        st_b = touch ? static_cast<std::uint8_t>(st0 | kTouching |
-                                                 ((!(st0 & kTouching) && (st0 & kSeparated)) ? kReclosed : 0))
-                     : static_cast<std::uint8_t>((st0 & ~kTouching) | kSeparated);
+        // reclosed: touching again after having separated
+        const std::int64_t reclosed = ((st0 & kSeparated) != 0) & ((st0 & kTouching) == 0);
+        st_b = touch ? (st0 | kTouching | (reclosed * kReclosed))
+                     : ((st0 & ~std::int64_t{kTouching}) | kSeparated);
         fn = intact ? fn_i : (touch ? fn_t : 0.0);
         kss = intact ? ks : ks0;
         for (int a = 0; a < kNs; ++a) uo[a] = intact ? us[a] : ub[a];
-        if constexpr (kEnergy) e_b = touch ? 0.5 * kn0 * un * un + 0.5 * ks0 * ub2 : 0.0;
+        // touch ? e : 0.0 as a product (e >= 0): a select here keeps GCC from vectorising
+        if constexpr (kEnergy) e_b = static_cast<double>(touch) * (0.5 * kn0 * un * un + 0.5 * ks0 * ub2);
       }
-      const bool fast = (j < ee) & (!intact | holds);
-      slow[q] = !fast;
-      if constexpr (D == 2) {
-        bus[q] = fast ? uo[0] : b[0];
-      } else {
-        bus[3 * q] = fast ? uo[0] : b[0];
-        bus[3 * q + 1] = fast ? uo[1] : b[1];
-        bus[3 * q + 2] = fast ? uo[2] : b[2];
-      }
-      if constexpr (kBroken) bst[q] = fast && !intact ? st_b : st0;
+      const bool fast = (j < ee64) & (!intact | holds);
+      SLOW[i] = !fast;
+      for (int a = 0; a < kNs; ++a) NU[a][i] = uo[a];
+      if constexpr (kBroken) ST[i] = st0 + static_cast<std::int64_t>(fast & !intact) * (st_b - st0);
       if constexpr (D == 2) {
         F0[q] = -fn * n0 - kss * uo[0] * n1;
         F1[q] = -fn * n1 + kss * uo[0] * n0;
@@ -1033,6 +1045,12 @@ class Model final : public ModelBase {
         F2[q] = -fn * n2 + kss * uo[2];
       }
       if constexpr (kEnergy) EN[q] = intact ? 0.5 * kn * un * un + 0.5 * ks * u2 : e_b;
+    }
+    for (std::size_t i = 0; i < len_q; ++i) {
+      slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
+      if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
+      if (!SLOW[i])
+        for (int a = 0; a < kNs; ++a) bus[(qa + i) * kNs + a] = NU[a][i];
     }
   }
 
@@ -1081,7 +1099,6 @@ class Model final : public ModelBase {
                         ee};
       // chunks of bonds with no broken bond (nearly all of an unbroken lattice) skip the
       // broken-bond law; the others take the full one
-      constexpr std::size_t kChunk = 64;
       const std::uint8_t* stq = sp.st;
       for (std::size_t qa = 0; qa < m; qa += kChunk) {
         const std::size_t qb = std::min(m, qa + kChunk);
