@@ -907,7 +907,7 @@ class Model final : public ModelBase {
   enum Rest { kRadiusSum, kUniform, kPerBond };
 
   /// Bonds per chunk of the bond pass (see bond_block).
-  static constexpr std::size_t kChunk = 64;
+  static constexpr std::size_t kChunk = 128;
 
   /// Bond pass pointers of one block (indexed by the block's bond position q).
   struct BondSpan {
@@ -956,11 +956,16 @@ class Model final : public ModelBase {
       if constexpr (kBroken) ST[i] = bst[qa + i];
     }
     const std::int64_t ee64 = ee;
-#pragma omp simd
-    for (std::size_t i = 0; i < len_q; ++i) {
+    // The geometry of a bond (gathers, length, normal, Us) and its law. Where broken bonds
+    // take the friction law as well, they run as two loops: each is short enough for the
+    // core to overlap several bonds' square roots and divisions, which in one long loop run
+    // back to back; the intact law alone runs best in one loop.
+    struct Geo {
+      double n[3], un, us[3], u2;
+    };
+    auto geometry = [&](std::size_t i) {
       const std::size_t q = qa + i;
       const std::int64_t p = P[i], j = J[i];
-      const std::int64_t st0 = kBroken ? ST[i] : std::int64_t{kIntact};
       double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
       double len2 = n0 * n0 + n1 * n1;
       if constexpr (D == 3) {
@@ -972,11 +977,9 @@ class Model final : public ModelBase {
       n0 *= inv;
       n1 *= inv;
       if constexpr (D == 3) n2 *= inv;
-      double un, kn = kn0, ks = ks0;
+      double un;
       if constexpr (kRest == kPerBond) {
         un = br0[q] - len;
-        kn = kn0 * bkf[q];  // intact only
-        ks = ks0 * bkf[q];
       } else if constexpr (kRest == kUniform) {
         un = d_uniform - len;  // two gathers fewer
       } else {
@@ -1001,6 +1004,20 @@ class Model final : public ModelBase {
       }
       double u2 = 0;
       for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
+      Geo g{{n0, n1, n2}, un, {us[0], us[1], us[2]}, u2};
+      return g;
+    };
+    auto law = [&](std::size_t i, const Geo& g) {
+      const std::size_t q = qa + i;
+      const std::int64_t j = J[i];
+      const std::int64_t st0 = kBroken ? ST[i] : std::int64_t{kIntact};
+      const double n0 = g.n[0], n1 = g.n[1], n2 = g.n[2], un = g.un, u2 = g.u2;
+      const double us[3] = {g.us[0], g.us[1], g.us[2]};
+      double kn = kn0, ks = ks0;
+      if constexpr (kRest == kPerBond) {
+        kn = kn0 * bkf[q];  // intact only
+        ks = ks0 * bkf[q];
+      }
       // intact: Fn = Kn·Un, Fs = Ks·Us, limits (SPEC C1 eqs. 1-5)
       const bool intact = !kBroken || st0 == kIntact;
       const double fn_i = kn * un;
@@ -1029,8 +1046,7 @@ class Model final : public ModelBase {
         fn = intact ? fn_i : (touch ? fn_t : 0.0);
         kss = intact ? ks : ks0;
         for (int a = 0; a < kNs; ++a) uo[a] = intact ? us[a] : ub[a];
-        // touch ? e : 0.0 as a product (e >= 0): a select here keeps GCC from vectorising
-        if constexpr (kEnergy) e_b = static_cast<double>(touch) * (0.5 * kn0 * un * un + 0.5 * ks0 * ub2);
+        if constexpr (kEnergy) e_b = touch ? 0.5 * kn0 * un * un + 0.5 * ks0 * ub2 : 0.0;
       }
       const bool fast = (j < ee64) & (!intact | holds);
       SLOW[i] = !fast;
@@ -1045,6 +1061,27 @@ class Model final : public ModelBase {
         F2[q] = -fn * n2 + kss * uo[2];
       }
       if constexpr (kEnergy) EN[q] = intact ? 0.5 * kn * un * un + 0.5 * ks * u2 : e_b;
+    };
+    if constexpr (kBroken) {
+      alignas(64) double GN[D][kChunk], GUN[kChunk], GUS[kNs][kChunk], GU2[kChunk];
+#pragma omp simd
+      for (std::size_t i = 0; i < len_q; ++i) {
+        const Geo g = geometry(i);
+        for (int a = 0; a < D; ++a) GN[a][i] = g.n[a];
+        GUN[i] = g.un;
+        for (int a = 0; a < kNs; ++a) GUS[a][i] = g.us[a];
+        GU2[i] = g.u2;
+      }
+#pragma omp simd
+      for (std::size_t i = 0; i < len_q; ++i) {
+        Geo g{{0, 0, 0}, GUN[i], {0, 0, 0}, GU2[i]};
+        for (int a = 0; a < D; ++a) g.n[a] = GN[a][i];
+        for (int a = 0; a < kNs; ++a) g.us[a] = GUS[a][i];
+        law(i, g);
+      }
+    } else {
+#pragma omp simd
+      for (std::size_t i = 0; i < len_q; ++i) law(i, geometry(i));
     }
     for (std::size_t i = 0; i < len_q; ++i) {
       slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
