@@ -183,11 +183,16 @@ class Model final : public ModelBase {
   int dim() const override { return D; }
   std::size_t n() const { return im.size(); }
 
-  /// parallel_for for set-up loops; small models stay on one thread (a parallel region
-  /// costs more than it saves there, and much more on a loaded machine)
+  /// Small models stay on one thread in set-up loops (a parallel region costs more than it
+  /// saves there, and much more on a loaded machine).
+  bool small_model() const {
+    return static_cast<std::ptrdiff_t>(n()) < 2 * std::max(1, settings.min_particles_per_thread);
+  }
+
+  /// parallel_for for set-up loops (one thread for small models).
   template <typename F>
   void for_range(std::ptrdiff_t count, F&& f) const {
-    if (static_cast<std::ptrdiff_t>(n()) < 2 * std::max(1, settings.min_particles_per_thread)) {
+    if (small_model()) {
       for (std::ptrdiff_t i = 0; i < count; ++i) f(i);
     } else {
       par::parallel_for(count, std::forward<F>(f));
@@ -986,17 +991,13 @@ class Model final : public ModelBase {
         un = R[p] + R[j] - len;
       }
       // shear displacement with this step's increment, and its square
-      double us[3] = {0, 0, 0}, b[3] = {0, 0, 0};  // new and stored Us
+      double us[3] = {0, 0, 0};  // the stored Us, rotated, plus this step's increment
       if constexpr (D == 2) {
-        b[0] = bus[q];
-        us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
+        us[0] = bus[q] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
       } else {
         const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
         const double dun = du0 * n0 + du1 * n1 + du2 * n2;
-        b[0] = bus[3 * q];
-        b[1] = bus[3 * q + 1];
-        b[2] = bus[3 * q + 2];
-        const double b0 = b[0], b1 = b[1], b2 = b[2];
+        const double b0 = bus[3 * q], b1 = bus[3 * q + 1], b2 = bus[3 * q + 2];
         const double usn = b0 * n0 + b1 * n1 + b2 * n2;
         us[0] = (b0 - usn * n0) + (du0 - dun * n0);
         us[1] = (b1 - usn * n1) + (du1 - dun * n1);
@@ -1150,12 +1151,6 @@ class Model final : public ModelBase {
       std::fill(slow, slow + m, std::uint8_t{1});
     }
     // the scalar law for the rest (cross bonds, j >= e, are phase A's)
-    const double* XC[D];
-    const double* VC[D];
-    for (int a = 0; a < D; ++a) {
-      XC[a] = X[a];
-      VC[a] = V[a];
-    }
     for (std::size_t q = 0; q < m; ++q) {
       if (q % 8 == 0 && q + 8 <= m) {  // skip 8 fast bonds at a time
         std::uint64_t w;
@@ -1170,7 +1165,7 @@ class Model final : public ModelBase {
       const std::uint32_t p = up0 + own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
       double F[D];
       int broke = 0;
-      EN[q] = pair_force<kEnergy>(XC, VC, rest_of(bonds, k, p, j), p, j, bonds.st[k],
+      EN[q] = pair_force<kEnergy>(X, V, rest_of(bonds, k, p, j), p, j, bonds.st[k],
                                   &bonds.us[std::size_t{k} * kNs], law_for(bonds, k, p, j), dt, F, broke);
       for (int a = 0; a < D; ++a) FB[a][q] = F[a];
       if (broke) [[unlikely]]
@@ -1535,14 +1530,20 @@ class Model final : public ModelBase {
     for (std::size_t p = 0; p < n(); ++p) stiff_pairs_of(p, fn);
   }
 
-  void pair_matrix(std::size_t p, std::uint32_t j, const SolidLatticeLaw& law, double K[D][D]) const {
-    double nv[D], l2 = 0;
+  /// Unit vector from p to j.
+  void unit_normal(std::size_t p, std::uint32_t j, double nv[D]) const {
+    double l2 = 0;
     for (int a = 0; a < D; ++a) {
       nv[a] = x[a][j] - x[a][p];
       l2 += nv[a] * nv[a];
     }
     const double l = std::sqrt(l2);
     for (int a = 0; a < D; ++a) nv[a] /= l;
+  }
+
+  void pair_matrix(std::size_t p, std::uint32_t j, const SolidLatticeLaw& law, double K[D][D]) const {
+    double nv[D];
+    unit_normal(p, j, nv);
     for (int a = 0; a < D; ++a)
       for (int b2 = 0; b2 < D; ++b2) K[a][b2] = (law.kn - law.ks) * nv[a] * nv[b2] + (a == b2 ? law.ks : 0.0);
   }
@@ -1607,9 +1608,7 @@ class Model final : public ModelBase {
   /// evenly over the threads (one thread for small models, as for_range).
   template <typename F>
   void for_chunks(std::ptrdiff_t nc, F&& f) const {
-    const int nt = static_cast<std::ptrdiff_t>(n()) < 2 * std::max(1, settings.min_particles_per_thread)
-                       ? 1
-                       : static_cast<int>(std::min<std::ptrdiff_t>(par::threads(), nc));
+    const int nt = small_model() ? 1 : static_cast<int>(std::min<std::ptrdiff_t>(par::threads(), nc));
     par::parallel_team(nt, [&](int t, int team) {
       for (std::ptrdiff_t c = nc * t / team; c < nc * (t + 1) / team; ++c) f(c);
     });
@@ -1648,16 +1647,11 @@ class Model final : public ModelBase {
         for (std::size_t p = lo; p < hi; ++p)
           stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const SolidLatticeLaw& law) {
             // K_b du = Ks·du + (Kn - Ks)·n (n·du)
-            double nv[D], l2 = 0;
-            for (int a = 0; a < D; ++a) {
-              nv[a] = x[a][j] - x[a][pp];
-              l2 += nv[a] * nv[a];
-            }
-            const double l = std::sqrt(l2);
+            double nv[D];
+            unit_normal(pp, j, nv);
             const double sp = std::sqrt(im[pp]), sj = std::sqrt(im[j]);
             double du[D], ndu = 0;
             for (int a = 0; a < D; ++a) {
-              nv[a] /= l;
               du[a] = q[pp * D + a] * sp - q[std::size_t{j} * D + a] * sj;
               ndu += nv[a] * du[a];
             }
