@@ -13,12 +13,13 @@
 #include <cstdio>
 #include <iostream>
 
+#include <strata/cases/chain_report.hpp>
+#include <strata/cases/wave_report.hpp>
+#include <strata/scene/files.hpp>
+#include <strata/scene/scene.hpp>
 #include "bench_dem.hpp"
-#include "driver.hpp"
+#include "commands.hpp"
 #include "render_cmd.hpp"
-#include "report.hpp"
-#include "scene/scene.hpp"
-#include "wave_report.hpp"
 
 namespace strata::app {
 namespace {
@@ -143,7 +144,7 @@ int main(int argc, char** argv) {
       "  strata render out/fem/fem.pvd --field von_mises");
 
   // ---- report ----
-  ReportOptions rep;
+  cases::ReportOptions rep;
   auto* report = app.add_subcommand("report",
                                     "Coupled FEM-DEM reports over eta: error against run time of the chain "
                                     "cases (SPEC C3), reflection of a "
@@ -175,7 +176,7 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   report->add_flag("--check", rep.check_only, "Only check the time step (exit 2 when unstable)");
   report->add_flag("--no-plot", rep.no_plot, "Do not write the PNG plot");
-  WaveOptions wave;  // `report wave` only
+  cases::WaveOptions wave;  // `report wave` only
   report
       ->add_option("--geometry", wave.geometry,
                    "wave: geometry file with the two regions (default examples/04_coupled_wave/wave.geo)")
@@ -242,15 +243,15 @@ int main(int argc, char** argv) {
       wave.no_plot = rep.no_plot;
       wave.check_only = rep.check_only;
       wave.refuse_unstable_eta = rep.check_only;  // --check: exit 2 when an eta would be refused
-      return wave_report_cmd(wave);
+      return cases::wave_report_cmd(wave);
     }
-    if (*report) return report_cmd(rep);
+    if (*report) return cases::report_cmd(rep);
     if (*reference) {
       const std::string md = scene::reference_markdown();
       if (ref_out.empty()) {
         std::fwrite(md.data(), 1, md.size(), stdout);
       } else {
-        write_file_atomic(ref_out, md);
+        scene::write_file_atomic(ref_out, md);
       }
       return 0;
     }

@@ -13,7 +13,7 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "frames.hpp"
+#include <strata/scene/frames.hpp>
 
 namespace strata::app {
 
@@ -56,7 +56,7 @@ int render_series_cmd(const RenderOptions& opt) {
 #if STRATA_WITH_RENDER
   const bool mesh_series = io::is_mesh_series(opt.series);
   const std::string field = !opt.field.empty() ? opt.field : mesh_series ? "displacement" : "damage";
-  io::RenderStyle style = field_style(field);
+  io::RenderStyle style = scene::field_style(field);
   style.width = opt.size.at(0);
   style.height = opt.size.at(1);
   style.show_contacts = opt.contacts;

@@ -10,10 +10,10 @@
 
 #include <cmath>
 
-#include "wave_report.hpp"
+#include <strata/cases/wave_report.hpp>
 
 using namespace strata;
-using namespace strata::app;
+using namespace strata::cases;
 using couple::Execution;
 
 namespace {

@@ -9,7 +9,7 @@
 #include <limits>
 #include <sstream>
 
-#include "scene/scene.hpp"
+#include <strata/scene/scene.hpp>
 #include "scene_fixtures.hpp"
 
 namespace fs = std::filesystem;

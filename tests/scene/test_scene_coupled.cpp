@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "report.hpp"
-#include "scene/scene.hpp"
+#include <strata/cases/chain_report.hpp>
+#include <strata/scene/scene.hpp>
 #include "scene_fixtures.hpp"
-#include "wave_report.hpp"
+#include <strata/cases/wave_report.hpp>
 
 using strata::scene::Scene;
 
@@ -55,7 +55,7 @@ TEST(SceneCoupled, LoadsWithDefaultsAndMapsOntoTheSweepOptions) {
   EXPECT_DOUBLE_EQ(c.real("dt_ref"), 1e-6);
   EXPECT_EQ(c.str("fem_scheme"), "auto");
 
-  const auto o = strata::app::coupled_report_options(s, /*force=*/false);
+  const auto o = strata::cases::coupled_report_options(s, /*force=*/false);
   EXPECT_EQ(o.case_name, "metamaterial");
   EXPECT_EQ(o.etas, (std::vector<int>{1, 2, 20}));
   EXPECT_EQ(o.modes, "serial");
@@ -72,7 +72,7 @@ TEST(SceneCoupled, LoadsWithDefaultsAndMapsOntoTheSweepOptions) {
   // The default η list is the paper's.
   const Scene d = strata::scene::parse(edit("eta = [1, 2, 20]\n", ""), "scene.toml");
   EXPECT_FALSE(d.table("coupled").has("eta"));  // the default depends on the case
-  EXPECT_EQ(strata::app::coupled_report_options(d, false).etas, (std::vector<int>{1, 2, 3, 4, 5, 10, 20}));
+  EXPECT_EQ(strata::cases::coupled_report_options(d, false).etas, (std::vector<int>{1, 2, 3, 4, 5, 10, 20}));
   // A particle scene has no [coupled].
   EXPECT_FALSE(
       strata::scene::parse("[scene]\ndimension = 2\n[[material]]\nname = \"r\"\ndensity = 1\nkn = 1\n"
@@ -205,7 +205,7 @@ const std::string kWaveKeys =
 TEST(SceneCoupledWave, LoadsAndMapsOntoTheWaveOptions) {
   const Scene s = strata::scene::parse(kWave, kWaveFile);
   ASSERT_TRUE(s.coupled());
-  const auto o = strata::app::wave_scene_options(s, /*force=*/false);
+  const auto o = strata::cases::wave_scene_options(s, /*force=*/false);
   // The geometry is resolved relative to the scene file's folder.
   EXPECT_EQ(o.geometry, (kWaveDir / "wave.geo").lexically_normal());
   EXPECT_EQ(o.wavelengths, (std::vector<double>{20}));
@@ -224,24 +224,24 @@ TEST(SceneCoupledWave, LoadsAndMapsOntoTheWaveOptions) {
   EXPECT_EQ(o.series_eta, 1);
   EXPECT_EQ(o.repeats, 1);  // the wave's defaults, not the chains' (3 and 0)
   EXPECT_EQ(o.threads, 1);
-  EXPECT_EQ(strata::app::coupled_threads(s), 1);
+  EXPECT_EQ(strata::cases::coupled_threads(s), 1);
   EXPECT_TRUE(o.no_plot);
   EXPECT_TRUE(o.refuse_unstable_eta);
-  EXPECT_FALSE(strata::app::wave_scene_options(s, /*force=*/true).refuse_unstable_eta);
+  EXPECT_FALSE(strata::cases::wave_scene_options(s, /*force=*/true).refuse_unstable_eta);
   EXPECT_EQ(o.output, (kWaveDir / "res").lexically_normal());
 
   // η and λ not given: the report's defaults, which differ with embedded = true.
   std::string bare = kWave;
   const std::string sweep = "wavelengths = [20]\neta = [1, 5]\n";
   bare.replace(bare.find(sweep), sweep.size(), "");
-  const auto d = strata::app::wave_scene_options(strata::scene::parse(bare, kWaveFile), false);
-  EXPECT_EQ(d.etas, strata::app::kWaveEtas);
-  EXPECT_EQ(d.wavelengths, strata::app::kWaveWavelengths);
-  const auto e = strata::app::wave_scene_options(
+  const auto d = strata::cases::wave_scene_options(strata::scene::parse(bare, kWaveFile), false);
+  EXPECT_EQ(d.etas, strata::cases::kWaveEtas);
+  EXPECT_EQ(d.wavelengths, strata::cases::kWaveWavelengths);
+  const auto e = strata::cases::wave_scene_options(
       strata::scene::parse(bare, kWaveFile, {"coupled.embedded=true", "coupled.geometry=wave_embedded.geo"}),
       false);
-  EXPECT_EQ(e.etas, strata::app::kWaveEmbeddedEtas);
-  EXPECT_EQ(e.wavelengths, strata::app::kWaveEmbeddedWavelengths);
+  EXPECT_EQ(e.etas, strata::cases::kWaveEmbeddedEtas);
+  EXPECT_EQ(e.wavelengths, strata::cases::kWaveEmbeddedWavelengths);
   EXPECT_EQ(e.geometry, (kWaveDir / "wave_embedded.geo").lexically_normal());
 }
 
@@ -250,14 +250,14 @@ TEST(SceneCoupledWave, TheExampleScenesLoad) {
     const Scene s = strata::scene::load(kWaveDir / f);
     EXPECT_EQ(s.table("coupled").str("case"), "wave") << f;
   }
-  const auto q = strata::app::wave_scene_options(strata::scene::load(kWaveDir / "quick.toml"), false);
+  const auto q = strata::cases::wave_scene_options(strata::scene::load(kWaveDir / "quick.toml"), false);
   EXPECT_EQ(q.etas, (std::vector<int>{1, 5}));
   EXPECT_EQ(q.wavelengths, (std::vector<double>{20}));
   EXPECT_EQ(q.frames, 3);
-  const auto e = strata::app::wave_scene_options(strata::scene::load(kWaveDir / "embedded.toml"), false);
+  const auto e = strata::cases::wave_scene_options(strata::scene::load(kWaveDir / "embedded.toml"), false);
   EXPECT_TRUE(e.embedded);
   EXPECT_EQ(e.exit_region, "fem_exit");
-  EXPECT_EQ(e.etas, strata::app::kWaveEmbeddedEtas);
+  EXPECT_EQ(e.etas, strata::cases::kWaveEmbeddedEtas);
 }
 
 TEST(SceneCoupledWave, KeysOfAnotherCaseAreRefusedWhereTheyAre) {

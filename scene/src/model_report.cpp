@@ -1,19 +1,80 @@
-#include "mesh_report.hpp"
+#include <strata/scene/model_report.hpp>
 
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
+#include <strata/core/memory.hpp>
+#include <strata/core/parallel.hpp>
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
+#include <strata/io/series.hpp>
 #include <strata/preprocess/ecc.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <map>
 
-namespace strata::app {
+namespace strata::scene {
 
 namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+/// What every model report holds: scene, regions, groups (`strata check`, `run`, `mesh`).
+json model_counts_json(const Scene& sc, int dim, const std::vector<RegionInfo>& regions_in,
+                       const std::map<std::string, std::size_t>& groups_in) {
+  json regions = json::array();
+  for (const auto& r : regions_in)
+    regions.push_back({{"name", r.name},
+                       {"lattice", r.lattice},
+                       {"particles", r.particles},
+                       {"diameter_m", r.diameter},
+                       {"packing_density", r.packing}});
+  json groups = json::object();
+  for (const auto& [name, n] : groups_in) groups[name] = n;
+  return {{"scene", sc.file.string()},
+          {"title", sc.table("scene").str("title")},
+          {"dimension", dim},
+          {"regions", regions},
+          {"groups", groups}};
+}
+
+/// `strata mesh`'s report of a model description: counts only, no DEM quantities (dt_crit,
+/// dt, memory of the model arrays are `strata check`'s, which builds the DEM model).
+json description_json(const ModelDescription& d, const Scene& sc, std::size_t bonds) {
+  std::map<std::string, std::size_t> groups;
+  for (const auto& g : d.groups) groups[g.name] = g.count;
+  json j = model_counts_json(sc, d.dim, d.regions, groups);
+  json fem = json::array();
+  for (const auto& f : d.fem)
+    fem.push_back({{"name", f.name}, {"nodes", f.mesh.node_count()}, {"elements", f.mesh.cell_count()}});
+  j.update({{"particles", d.particle_count()},
+            {"bonds", bonds},
+            {"fem_nodes", d.fem_nodes()},
+            {"fem_elements", d.fem_elements()},
+            {"fem_regions", fem},
+            {"threads", par::threads()}});
+  return j;
+}
+}  // namespace
+
+json model_json(const BuiltModel& m, const Scene& sc) {
+  json j = model_counts_json(sc, m.dim, m.regions, m.groups);
+  j.update({{"particles", m.sim.particle_count()},
+            {"bonds", m.sim.bond_count()},
+            {"fem_nodes", 0},
+            {"fem_elements", 0},
+            {"memory_bytes", m.sim.memory_bytes()},
+            {"dt_s", m.dt},
+            {"dt_automatic", m.dt_automatic},
+            {"dt_crit_s", m.dt_crit},
+            {"dt_over_dt_crit", m.dt / m.dt_crit},
+            {"steps", m.steps},
+            {"simulated_time_s", double(m.steps) * m.dt},
+            {"threads", par::threads()}});
+  return j;
+}
 
 BondStats bond_stats(const ModelDescription& d, std::size_t bonds) {
   BondStats s;
@@ -190,4 +251,47 @@ std::vector<fs::path> write_bond_histograms(const BondStats& s, const fs::path& 
   return written;
 }
 
-}  // namespace strata::app
+json mesh_report(const Scene& sc, const fs::path& output) {
+  // The model as a description only (never a dem::Simulation): regions filled, FEM regions
+  // meshed, bonds counted on a cell grid by length class (regular regions; never stored).
+  const auto t0 = std::chrono::steady_clock::now();
+  const ModelDescription d = describe_model(sc, /*allow_fem=*/true);
+  const preprocess::PairCounts bonds = count_bonds(d);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  json j = description_json(d, sc, bonds.pairs);
+  j["seconds"] = seconds;
+  j["particles_per_s"] = seconds > 0 ? double(d.particle_count()) / seconds : 0.0;
+  // Bond counts by length class (length / d, classes 0.02 wide): one class for a regular
+  // lattice, a spread for an eccentric one (SPEC C4).
+  if (bonds.pairs > 0) j["bond_length_classes"] = bond_length_classes(bonds);
+  if (!output.empty()) {
+    // Particles: all of them up to kMaxWrittenParticles, else the surface (or none).
+    const std::size_t n = d.particle_count();
+    std::vector<std::uint32_t> ids;
+    std::string which = "all";
+    if (n <= kMaxWrittenParticles) {
+      ids.resize(n);
+      for (std::size_t i = 0; i < n; ++i) ids[i] = std::uint32_t(i);
+    } else {
+      ids = surface_particles(d);
+      which = "surface";
+      if (ids.size() > kMaxWrittenParticles) ids.clear(), which = "none";
+    }
+    j["written"] = json::array();
+    j["written_particles"] = {{"selection", which}, {"count", ids.size()}};
+    if (!ids.empty()) {
+      io::Series particles(output, "model");
+      j["written"].push_back(particles.add_particles(0.0, description_particles(d, ids)).string());
+    }
+    if (!d.fem.empty()) {
+      io::Series fem(output, "fem");
+      j["written"].push_back(fem.add_mesh(0.0, description_fem(d)).string());
+    }
+    for (const auto& f : write_bond_histograms(bond_stats(d, bonds.pairs), output))
+      j["written"].push_back(f.string());
+  }
+  j["peak_rss_bytes"] = sys::peak_rss_bytes();
+  return j;
+}
+
+}  // namespace strata::scene

@@ -1,6 +1,6 @@
 // `strata report wave`: reflection of a 1D strain pulse at a coupled FEM–DEM interface built
 // from a geometry file (see wave_report.hpp).
-#include "wave_report.hpp"
+#include <strata/cases/wave_report.hpp>
 
 #include <nlohmann/json.hpp>
 #include <strata/core/error.hpp>
@@ -13,6 +13,7 @@
 #include <strata/io/plot.hpp>
 #include <strata/io/render.hpp>
 #include <strata/io/series.hpp>
+#include <strata/scene/files.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -22,11 +23,18 @@
 #include <limits>
 #include <map>
 
-#include "frames.hpp"
-#include "report.hpp"
-#include "scene/scene.hpp"
+#include <strata/cases/chain_report.hpp>
+#include <strata/scene/frames.hpp>
+#include <strata/scene/scene.hpp>
 
-namespace strata::app {
+namespace strata::cases {
+
+using scene::bond_frame;
+using scene::fem_frame;
+using scene::FrameSelection;
+using scene::particle_frame;
+using scene::field_style;
+using scene::write_file_atomic;
 
 namespace {
 
@@ -981,7 +989,7 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
   // Everything is validated: run the whole sweep into a staging folder, then move its files
   // into the output folder all at once.
   const auto t0 = Clock::now();
-  Staging stage(opt.output);
+  scene::Staging stage(opt.output);
   const fs::path& dir = stage.path();
   std::vector<WaveRun> rows;
   for (double l : opt.wavelengths)
@@ -1164,4 +1172,4 @@ int run_wave_scene(const scene::Scene& sc, const fs::path& output, bool force, i
   return wave_sweep(o, refuse_at_scene_key(sc));
 }
 
-}  // namespace strata::app
+}  // namespace strata::cases

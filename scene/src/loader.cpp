@@ -20,7 +20,7 @@
 #include <sstream>
 #include <utility>
 
-#include "scene/scene.hpp"
+#include <strata/scene/scene.hpp>
 
 namespace strata::scene {
 

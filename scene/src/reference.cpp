@@ -2,7 +2,7 @@
 // on schema(), so it is the same on every machine; test_scene checks the committed file.
 #include <fmt/format.h>
 
-#include "scene/scene.hpp"
+#include <strata/scene/scene.hpp>
 
 namespace strata::scene {
 namespace {

@@ -9,7 +9,7 @@
 
 #include <cmath>
 
-#include "frames.hpp"
+#include <strata/scene/frames.hpp>
 #include "io_test_util.hpp"
 
 #if STRATA_WITH_VTK
@@ -58,10 +58,10 @@ TEST_F(IoTest, ContactsAreLineCellsWithState4) {
   ASSERT_EQ(touching.size(), 1u);
   EXPECT_GT(touching[0].fn, 0.0) << "overlapping disks push apart: compression is positive";
 
-  app::FrameSelection sel;
-  sel.bonds = app::FrameSelection::Bonds::All;
-  const io::PointCloud all = app::particle_frame(sim, {"id"});
-  const io::LineSet lines = app::bond_frame(sim, sel);
+  scene::FrameSelection sel;
+  sel.bonds = scene::FrameSelection::Bonds::All;
+  const io::PointCloud all = scene::particle_frame(sim, {"id"});
+  const io::LineSet lines = scene::bond_frame(sim, sel);
   const auto file = dir_ / "bonds.vtp";
   io::write_lines(file, all, lines);
 
@@ -85,18 +85,18 @@ TEST_F(IoTest, ContactsAreLineCellsWithState4) {
 
   // Selections: no contacts when switched off, and only those inside the selected groups.
   sel.contacts = false;
-  EXPECT_EQ(app::bond_frame(sim, sel).size(), 0u);
+  EXPECT_EQ(scene::bond_frame(sim, sel).size(), 0u);
   sel.contacts = true;
   dem::Simulation copy = three_disks();
   sel.group_mask = 1u << copy.group_bit("lonely");
-  EXPECT_EQ(app::bond_frame(copy, sel).size(), 0u);
+  EXPECT_EQ(scene::bond_frame(copy, sel).size(), 0u);
   sel.group_mask = 1u << copy.group_bit("pair");
-  EXPECT_EQ(app::bond_frame(copy, sel).size(), 1u);
+  EXPECT_EQ(scene::bond_frame(copy, sel).size(), 1u);
   sel.group_mask = 0;
   sel.slice_thickness = 0.2e-3;  // a slice x = 0 ± 0.1 mm holds disk 0 only
   sel.slice_point = {0, 0, 0};
   sel.slice_normal = {1, 0, 0};
-  EXPECT_EQ(app::bond_frame(copy, sel).size(), 0u);
+  EXPECT_EQ(scene::bond_frame(copy, sel).size(), 0u);
 }
 
 // A plane-strain rectangle under a uniform strain: the .vtu holds the nodes, triangles,
@@ -113,7 +113,7 @@ TEST_F(IoTest, FemFrameReadsBackWithStressOfAConstantStrain) {
     v[2 * i] = 0.1 * x;
     v[2 * i + 1] = -0.2 * y;
   }
-  const io::MeshFrame frame = app::fem_frame(mesh, u, v, 2.5e-3, 77);
+  const io::MeshFrame frame = scene::fem_frame(mesh, u, v, 2.5e-3, 77);
   const auto file = dir_ / "fem.vtu";
   io::write_mesh(file, frame);
   EXPECT_FALSE(fs::exists(dir_ / "fem.vtu.tmp"));

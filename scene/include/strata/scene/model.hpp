@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "scene/scene.hpp"
+#include <strata/scene/scene.hpp>
 
-namespace strata::app {
+namespace strata::scene {
 
 /// One particle region as built.
 struct RegionInfo {
@@ -121,4 +121,4 @@ struct AxialState {
 };
 AxialState axial_state(const BuiltModel& m);
 
-}  // namespace strata::app
+}  // namespace strata::scene

@@ -17,7 +17,7 @@ namespace strata::scene {
 class Scene;
 }
 
-namespace strata::app {
+namespace strata::cases {
 
 struct ReportOptions {
   std::string case_name;                         ///< "chain6" or "metamaterial"
@@ -69,22 +69,4 @@ int check_coupled_scene(const scene::Scene& sc, bool json, bool force);
 int run_coupled_scene(const scene::Scene& sc, const std::filesystem::path& output, bool force,
                       int threads = -1);
 
-/// A folder beside the output folder that receives a sweep's files first; commit() moves them
-/// into the output folder (one rename each, replacing what is there), so it never holds half
-/// of a sweep's files, and a failure before that leaves nothing (the staging folder is removed).
-class Staging {
- public:
-  explicit Staging(const std::filesystem::path& dir);
-  ~Staging();
-  Staging(const Staging&) = delete;
-  Staging& operator=(const Staging&) = delete;
-  const std::filesystem::path& path() const { return tmp_; }
-  /// Moves every staged file and folder into the output folder; returns their paths as
-  /// `shown / name`, sorted.
-  std::vector<std::filesystem::path> commit(const std::filesystem::path& shown);
-
- private:
-  std::filesystem::path final_, tmp_;
-};
-
-}  // namespace strata::app
+}  // namespace strata::cases

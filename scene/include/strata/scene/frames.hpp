@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace strata::app {
+namespace strata::scene {
 
 /// Which particles, bonds and contacts the VTK frames hold ([output] particles, groups,
 /// slice_*, bonds, contacts).
@@ -63,4 +63,4 @@ io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const E
 /// damage, the fixed range [0, 1]. Shared by `strata run` and `strata render`.
 io::RenderStyle field_style(const std::string& field);
 
-}  // namespace strata::app
+}  // namespace strata::scene

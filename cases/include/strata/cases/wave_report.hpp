@@ -55,7 +55,7 @@ namespace strata::scene {
 class Scene;
 }
 
-namespace strata::app {
+namespace strata::cases {
 
 /// Sweep defaults that depend on the model (one place for `strata report wave` and scenes).
 inline const std::vector<int> kWaveEtas{1, 2, 4, 5, 10};
@@ -218,4 +218,4 @@ int check_wave_scene(const scene::Scene& sc, bool json, bool force);
 /// (empty: output.directory); `threads` >= 0 overrides [coupled].threads.
 int run_wave_scene(const scene::Scene& sc, const std::filesystem::path& output, bool force, int threads);
 
-}  // namespace strata::app
+}  // namespace strata::cases

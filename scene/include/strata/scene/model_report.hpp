@@ -1,7 +1,9 @@
 #pragma once
-/// What `strata mesh` reports about a model description beyond counts: bond counts by
-/// length class, bond length and direction histograms (CSV and PNG) that show the spread
-/// of an eccentric lattice (ECC4D, SPEC C4), and the particles and FEM meshes as VTK files.
+/// What strata reports about a model: the counts and time-step numbers of a built model
+/// (`strata check`, the model part of summary.json), and what `strata mesh` reports about a
+/// model description: bond counts by length class, bond length and direction histograms (CSV
+/// and PNG) that show the spread of an eccentric lattice, and the particles and FEM meshes as
+/// VTK files.
 #include <strata/io/frame.hpp>
 #include <strata/preprocess/ecc.hpp>
 
@@ -10,9 +12,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "model_builder.hpp"
+#include <strata/scene/model.hpp>
 
-namespace strata::app {
+namespace strata::scene {
 
 /// Bond geometry of a model at its initial state.
 struct BondStats {
@@ -51,4 +53,14 @@ io::MeshFrame description_fem(const ModelDescription& d);
 std::vector<std::filesystem::path> write_bond_histograms(const BondStats& s, const std::filesystem::path& dir,
                                                          int bins = 50);
 
-}  // namespace strata::app
+/// The model numbers of a built model: scene, title, dimension, regions, groups, particles,
+/// bonds, FEM nodes and elements, memory, dt, dt_crit, steps, simulated time, threads.
+nlohmann::json model_json(const BuiltModel& m, const Scene& sc);
+
+/// `strata mesh`: fills the regions (never builds the DEM), counts bonds by length class, and
+/// with a non-empty `output` writes the particles (all up to kMaxWrittenParticles, else the
+/// surface), the FEM meshes and the bond histograms there. Returns the report; its
+/// "written" lists the files.
+nlohmann::json mesh_report(const Scene& sc, const std::filesystem::path& output);
+
+}  // namespace strata::scene

@@ -1,4 +1,4 @@
-#include "frames.hpp"
+#include <strata/scene/frames.hpp>
 
 #include <strata/core/error.hpp>
 #include <strata/fem/stress.hpp>
@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace strata::app {
+namespace strata::scene {
 
 namespace {
 bool wants(const std::vector<std::string>& fields, const char* name) {
@@ -207,4 +207,4 @@ io::RenderStyle field_style(const std::string& field) {
   return style;
 }
 
-}  // namespace strata::app
+}  // namespace strata::scene

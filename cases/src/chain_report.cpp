@@ -1,7 +1,7 @@
 // Error against run time of the coupled chain cases (SPEC C3): `strata report` and
 // `strata check|run` of a coupled-chain scene share one path here:
 //   resolve options -> stability (print; refuse) -> sweep -> files through a staging folder.
-#include "report.hpp"
+#include <strata/cases/chain_report.hpp>
 
 #include <unistd.h>
 
@@ -19,10 +19,11 @@
 #include <fstream>
 #include <optional>
 
-#include "scene/scene.hpp"
-#include "wave_report.hpp"
+#include <strata/cases/wave_report.hpp>
+#include <strata/scene/files.hpp>
+#include <strata/scene/scene.hpp>
 
-namespace strata::app {
+namespace strata::cases {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -291,7 +292,7 @@ int run_plan(const Plan& p, const Refuse& refuse, bool check_only, bool json_out
   const auto t0 = std::chrono::steady_clock::now();
   const auto rows = sweep(p);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  Staging stage(p.opt.output);
+  scene::Staging stage(p.opt.output);
   write_files(p, rows, stage.path(), wall);
   const auto written = stage.commit(p.opt.output);
   std::printf("wrote:\n");
@@ -300,32 +301,6 @@ int run_plan(const Plan& p, const Refuse& refuse, bool check_only, bool json_out
 }
 
 }  // namespace
-
-Staging::Staging(const fs::path& dir) {
-  final_ = fs::absolute(dir).lexically_normal();
-  if (final_.filename().empty()) final_ = final_.parent_path();
-  tmp_ = final_.parent_path() / fmt::format(".{}.partial-{}", final_.filename().string(), ::getpid());
-  fs::remove_all(tmp_);
-  fs::create_directories(tmp_);
-}
-
-Staging::~Staging() {
-  std::error_code ec;
-  fs::remove_all(tmp_, ec);
-}
-
-std::vector<fs::path> Staging::commit(const fs::path& shown) {
-  fs::create_directories(final_);
-  std::vector<fs::path> moved;
-  for (const auto& e : fs::directory_iterator(tmp_)) {
-    const fs::path target = final_ / e.path().filename();
-    if (fs::is_directory(target)) fs::remove_all(target);  // a folder (series/) of an earlier run
-    fs::rename(e.path(), target);
-    moved.push_back(shown / e.path().filename());
-  }
-  std::sort(moved.begin(), moved.end());
-  return moved;
-}
 
 json per_eta_json(const std::vector<couple::CoupledStability>& per_eta) {
   json etas = json::array();
@@ -391,4 +366,4 @@ int run_coupled_scene(const scene::Scene& sc, const fs::path& output, bool force
   return run_plan(resolve(o), Refuse{&sc.table("coupled")}, /*check_only=*/false);
 }
 
-}  // namespace strata::app
+}  // namespace strata::cases

@@ -1,4 +1,4 @@
-#include "model_builder.hpp"
+#include <strata/scene/model.hpp>
 
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
@@ -12,7 +12,7 @@
 #include <limits>
 #include <memory>
 
-namespace strata::app {
+namespace strata::scene {
 namespace {
 
 using preprocess::Lattice;
@@ -505,4 +505,4 @@ AxialState axial_state(const BuiltModel& m) {
   return s;
 }
 
-}  // namespace strata::app
+}  // namespace strata::scene

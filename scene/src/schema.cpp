@@ -5,7 +5,7 @@
 // docs/scene-reference.md (`strata reference -o docs/scene-reference.md`; test_scene
 // fails until you do). Checks that involve more than one key (shape-dependent keys,
 // cross-references, list lengths against [scene].dimension) live in loader.cpp.
-#include "scene/scene.hpp"
+#include <strata/scene/scene.hpp>
 
 #include <fmt/format.h>
 

@@ -1,0 +1,206 @@
+// The scene commands of `strata` (run, check, mesh): load the scene, call the scene library,
+// print. The library builds, runs and writes; this file only shows it.
+#include "commands.hpp"
+
+#include <signal.h>
+#include <string.h>
+
+#include <nlohmann/json.hpp>
+#include <strata/cases/chain_report.hpp>
+#include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
+#include <strata/core/parallel.hpp>
+#include <strata/core/progress.hpp>
+#include <strata/dem/simulation.hpp>
+#include <strata/scene/model.hpp>
+#include <strata/scene/model_report.hpp>
+#include <strata/scene/run.hpp>
+#include <strata/scene/scene.hpp>
+
+#include <atomic>
+#include <cstdio>
+#include <optional>
+
+namespace strata::app {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Loads the scene and sets the process's thread count: --threads, else the scene's.
+scene::Scene load_scene(const SceneOptions& opt) {
+  scene::Scene sc = scene::load(opt.scene, opt.overrides);
+  // A coupled case's threads default per case; a region scene's is [solver]'s.
+  const int threads = opt.threads >= 0 ? opt.threads
+                      : sc.coupled()   ? cases::coupled_threads(sc)
+                                       : int(sc.table("solver").integer("threads"));
+  par::set_threads(threads);
+  return sc;
+}
+
+void print_model(const json& j) {
+  std::printf("scene        %s\n", j["scene"].get<std::string>().c_str());
+  if (!j["title"].get<std::string>().empty())
+    std::printf("title        %s\n", j["title"].get<std::string>().c_str());
+  std::printf("dimension    %dD\n", j["dimension"].get<int>());
+  for (const auto& r : j["regions"])
+    std::printf("region       %-14s %s lattice, d = %g m: %zu particles, packing density %.4f\n",
+                r["name"].get<std::string>().c_str(), r["lattice"].get<std::string>().c_str(),
+                r["diameter_m"].get<double>(), r["particles"].get<std::size_t>(),
+                r["packing_density"].get<double>());
+  for (const auto& [name, n] : j["groups"].items())
+    std::printf("group        %-14s %zu particles\n", name.c_str(), n.get<std::size_t>());
+  std::printf("particles    %zu\nbonds        %zu\nFEM          %zu nodes, %zu elements\n",
+              j["particles"].get<std::size_t>(), j["bonds"].get<std::size_t>(),
+              j["fem_nodes"].get<std::size_t>(), j["fem_elements"].get<std::size_t>());
+  for (const auto& f : j.value("fem_regions", json::array()))
+    std::printf("FEM region   %-14s %zu nodes, %zu elements\n", f["name"].get<std::string>().c_str(),
+                f["nodes"].get<std::size_t>(), f["elements"].get<std::size_t>());
+  if (!j.contains("dt_s")) return;  // `strata mesh`: no DEM model built
+  std::printf("memory       %.1f MB (model arrays)\n", j["memory_bytes"].get<double>() / 1e6);
+  std::printf("dt_crit      %.4g s\n", j["dt_crit_s"].get<double>());
+  std::printf("dt           %.4g s%s  (dt/dt_crit = %.3f)\n", j["dt_s"].get<double>(),
+              j["dt_automatic"].get<bool>() ? " (automatic)" : "", j["dt_over_dt_crit"].get<double>());
+  std::printf("steps        %lld (%.4g s simulated)\n", (long long)j["steps"].get<std::int64_t>(),
+              j["simulated_time_s"].get<double>());
+}
+
+// ---- SIGINT / SIGTERM ----------------------------------------------------------------------
+
+std::atomic<int> g_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+extern "C" void on_stop_signal(int sig) { g_signal.store(sig); }  // only sets the flag
+
+/// Routes SIGINT and SIGTERM to the flag for the duration of a run; restores the previous
+/// handlers afterwards.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_signal.store(0);
+    struct sigaction sa {};
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;
+    sigaction(SIGINT, &sa, &old_int_);
+    sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~StopSignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  /// The signal received (0: none).
+  static int received() { return g_signal.load(); }
+
+ private:
+  struct sigaction old_int_ {};
+  struct sigaction old_term_ {};
+};
+
+/// Shows a run on the terminal: the restart, a progress line, the end; stops on SIGINT or
+/// SIGTERM.
+class TerminalObserver final : public scene::RunObserver {
+ public:
+  void restarted(std::int64_t step, double time, const fs::path& checkpoint) override {
+    std::printf("restart      step %lld (t = %.6g s) of %s\n", (long long)step, time,
+                checkpoint.string().c_str());
+  }
+  void started(std::int64_t first, std::int64_t steps, const fs::path& dir) override {
+    log::info("running {} steps on {} thread(s); output in {}", steps - std::min(first, steps),
+              par::threads(), dir.string());
+    progress_.emplace("run", steps);
+  }
+  void progress(std::int64_t step, std::int64_t) override { progress_->update(step); }
+  int stop_requested() override { return StopSignals::received(); }
+  void stepped(const scene::RunResult& r) override { progress_->finish(r.step); }
+
+ private:
+  std::optional<Progress> progress_;
+};
+
+}  // namespace
+
+int check_scene(const SceneOptions& opt, bool json_out) {
+  const scene::Scene sc = load_scene(opt);
+  if (sc.coupled()) return cases::check_coupled_scene(sc, json_out, opt.force);
+  const scene::BuiltModel m = scene::build_model(sc, opt.force);
+  const json j = scene::model_json(m, sc);
+  if (json_out)
+    std::printf("%s\n", j.dump(2).c_str());
+  else
+    print_model(j);
+  return 0;
+}
+
+int mesh_scene(const SceneOptions& opt, bool json_out) {
+  const scene::Scene sc = load_scene(opt);
+  STRATA_CHECK(!sc.coupled(), Input,
+               "{}: a coupled-chain scene ([coupled]) has no mesh to build; use 'strata check' for its "
+               "stability numbers or 'strata run' for the sweep",
+               sc.file.string());
+  const json j = scene::mesh_report(sc, opt.output);
+  if (json_out) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    print_model(j);
+    if (j.contains("bond_length_classes")) {
+      std::printf("bond lengths (length/d: bonds)");
+      for (const auto& [cls, n] : j["bond_length_classes"].items())
+        std::printf("  %s: %zu", cls.c_str(), n.get<std::size_t>());
+      std::printf("\n");
+    }
+    std::printf("built in     %.3f s (%.3g particles/s), peak memory %.1f MB\n", j["seconds"].get<double>(),
+                j["particles_per_s"].get<double>(), j["peak_rss_bytes"].get<double>() / 1e6);
+    std::printf("DEM          dt_crit and model memory: see 'strata check' (it builds the DEM model)\n");
+    if (j.contains("written_particles") && j["written_particles"]["selection"] != "all")
+      std::printf("particles    %zu > %zu: wrote %s particles only (%zu)\n",
+                  j["particles"].get<std::size_t>(), scene::kMaxWrittenParticles,
+                  j["written_particles"]["selection"].get<std::string>().c_str(),
+                  j["written_particles"]["count"].get<std::size_t>());
+    if (j.contains("written"))
+      for (const auto& w : j["written"]) std::printf("wrote        %s\n", w.get<std::string>().c_str());
+  }
+  return 0;
+}
+
+int run_scene(const SceneOptions& opt) {
+  // Validate and build everything, and check a checkpoint to restart from, before the first
+  // byte is written.
+  const scene::Scene sc = load_scene(opt);
+  if (sc.coupled()) {  // the coupled cases: checks, the sweep, then its files all at once
+    STRATA_CHECK(opt.restart.empty(), Input,
+                 "--restart: {} is a coupled-chain scene ([coupled]); its sweep has no checkpoints",
+                 sc.file.string());
+    return cases::run_coupled_scene(sc, opt.output, opt.force, opt.threads);
+  }
+  scene::Run run(sc, {opt.output, opt.force, opt.restart});
+  print_model(run.model_summary());
+  TerminalObserver observer;
+  const StopSignals stop;
+  const scene::RunResult r = run.execute(observer);
+  const dem::Simulation& sim = run.model().sim;
+  if (r.status == scene::RunStatus::Interrupted) {
+    const int sig = r.stop_reason;
+    std::printf("interrupted by SIG%s at step %lld (t = %.6g s)\n", sigabbrev_np(sig), (long long)r.step,
+                r.time);
+    if (!r.last_frame.empty()) std::printf("  last frame  %s\n", r.last_frame.string().c_str());
+    if (!r.checkpoint.empty())
+      std::printf("  checkpoint  %s\n  continue with: strata run %s -o %s --restart %s\n",
+                  r.checkpoint.string().c_str(), sc.file.string().c_str(), r.directory.string().c_str(),
+                  r.checkpoint.string().c_str());
+    std::fflush(stdout);
+    return 128 + sig;
+  }
+  log::info("{} steps in {} ({:.3g} particle-steps/s); {} bonds broken ({} tension, {} shear)",
+            r.step - r.first_step, format_duration(r.wall_seconds), r.particle_steps_per_s,
+            sim.broken_count(), sim.broken_count(dem::BreakMode::Tension),
+            sim.broken_count(dem::BreakMode::Shear));
+  std::printf("wrote:\n");
+  for (const auto& p : r.written) std::printf("  %s\n", p.string().c_str());
+  return 0;
+}
+
+}  // namespace strata::app

@@ -1,0 +1,182 @@
+#include <strata/scene/run.hpp>
+
+#include <signal.h>
+#include <string.h>
+#include <strata/config.hpp>
+#include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
+#include <strata/core/parallel.hpp>
+#include <strata/scene/model_report.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "cadence.hpp"
+#include "checkpoint.hpp"
+#include "run_output.hpp"
+
+namespace strata::scene {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// "SIGINT" for a signal number, else "stop request N".
+std::string stop_name(int reason) {
+  const char* abbrev = reason > 0 && reason < NSIG ? sigabbrev_np(reason) : nullptr;
+  return abbrev ? fmt::format("SIG{}", abbrev) : fmt::format("stop request {}", reason);
+}
+}  // namespace
+
+struct Run::Impl {
+  const Scene& sc;
+  RunOptions opt;
+  BuiltModel m;
+  std::string fingerprint;
+  std::unique_ptr<io::CheckpointReader> ckpt;
+  FrameSelection selection;
+  json model;
+  fs::path dir;
+
+  Impl(const Scene& scene, RunOptions options)
+      : sc(scene), opt(std::move(options)), m(build_model(sc, opt.force)) {
+    const Table& o = sc.table("output");
+    if (!STRATA_WITH_HDF5 && !opt.restart.empty())
+      fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (--restart)");
+    if (!STRATA_WITH_HDF5 && o.integer("checkpoint_every") > 0)
+      fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (output.checkpoint_every)");
+    fingerprint = scene_fingerprint(sc);
+    if (!opt.restart.empty()) {
+      ckpt = open_checkpoint(opt.restart, fingerprint, sc);
+      m.sim.load_state(*ckpt);
+      m.dt = m.sim.dt();
+    }
+    selection = RunOutput::selection(m, o);
+    model = model_json(m, sc);
+    dir = opt.output.empty() ? fs::path(o.str("directory")) : opt.output;
+  }
+
+  RunResult execute(RunObserver& observer);
+};
+
+Run::Run(const Scene& sc, RunOptions opt) : impl_(std::make_unique<Impl>(sc, std::move(opt))) {}
+Run::~Run() = default;
+const BuiltModel& Run::model() const { return impl_->m; }
+const json& Run::model_summary() const { return impl_->model; }
+const fs::path& Run::directory() const { return impl_->dir; }
+RunResult Run::execute(RunObserver& observer) { return impl_->execute(observer); }
+
+RunResult Run::Impl::execute(RunObserver& observer) {
+  observer.model_ready(model);
+  const Table& o = sc.table("output");
+  fs::create_directories(dir);
+  RunOutput out(dir, sc, m, ckpt.get());
+  out.set_selection(std::move(selection));
+
+  RunResult result;
+  result.directory = dir;
+  const std::int64_t steps = m.steps;
+  const std::int64_t first = m.sim.step_count();  // 0, or the checkpoint's step
+  const Cadence cad(o, steps, m.dt);
+  std::int64_t frame_breaks = 0;  // broken bonds at the last frame (output.frame_every_breaks)
+  double wall_before = 0;         // run time before the restart
+  if (ckpt) {
+    frame_breaks = ckpt->get_scalar<std::int64_t>("driver/frame_breaks");
+    wall_before = ckpt->get_scalar<double>("driver/wall_seconds");
+    observer.restarted(first, m.sim.time(), opt.restart);
+    ckpt.reset();
+    if (first >= steps)
+      log::warn("the checkpoint is at step {}, solver.steps = {}: nothing left to run (raise solver.steps)",
+                first, steps);
+  }
+
+  observer.started(first, steps, dir);
+  const auto t0 = std::chrono::steady_clock::now();
+  auto wall = [&] { return wall_before + seconds_since(t0); };
+  auto finish_result = [&] {
+    result.first_step = first;
+    result.step = m.sim.step_count();
+    result.time = m.sim.time();
+    result.wall_seconds = seconds_since(t0);
+    result.particle_steps_per_s =
+        result.wall_seconds > 0
+            ? double(m.sim.particle_count()) * double(result.step - first) / result.wall_seconds
+            : 0.0;
+    result.last_frame = out.last_frame();
+    result.written = out.written();
+    return result;
+  };
+  std::int64_t max_chunk = 4;  // steps per run() call, adapted to ~0.25 s so signals are seen soon
+  try {
+    for (;;) {
+      const std::int64_t s = m.sim.step_count();
+      // outputs of step s (a restart's first step had them before its checkpoint was taken)
+      if (!(first > 0 && s == first)) {
+        if (cad.probe_due(s)) out.probe(m);
+        if (cad.frame_due(s, m.sim.broken_count(), std::size_t(frame_breaks))) {
+          out.frame(m);
+          frame_breaks = std::int64_t(m.sim.broken_count());
+        }
+      }
+      if (s >= steps) break;
+      if (const int reason = observer.stop_requested()) {
+        // Interrupted: the current frame, a checkpoint, what is known so far; then stop.
+        if (out.last_frame_step() != s) {
+          out.frame(m);
+          frame_breaks = std::int64_t(m.sim.broken_count());
+        }
+        fs::path ck;
+        if (STRATA_WITH_HDF5) ck = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
+        out.finish(m, model, seconds_since(t0),
+                   fmt::format("interrupted by {} at step {}", stop_name(reason), s));
+        result.status = RunStatus::Interrupted;
+        result.stop_reason = reason;
+        result.checkpoint = ck;
+        return finish_result();
+      }
+      if (cad.checkpoint_due(s) && s != first)
+        write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
+      const std::int64_t to =
+          std::min({cad.next_probe(s), cad.next_frame(s), cad.next_checkpoint(s), steps, s + max_chunk});
+      const auto c0 = std::chrono::steady_clock::now();
+      m.sim.run(to - s);
+      const double took = seconds_since(c0);
+      if (to - s == max_chunk || took > 0.25)
+        max_chunk = std::clamp<std::int64_t>(
+            took > 0 ? std::int64_t(double(to - s) * 0.25 / took) : 2 * max_chunk, 1, 1 << 20);
+      observer.progress(m.sim.step_count(), steps);
+    }
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Numerical) throw;
+    // Frames after the last passed health check may already hold the blow-up: drop them.
+    const std::int64_t good = m.sim.last_good_step();
+    const fs::path last = out.keep_frames_until((double(good) + 0.5) * m.dt);
+    out.finish(m, model, seconds_since(t0), fmt::format("failed: {}", e.what()));
+    const std::string kept = last.empty() ? std::string("no good frame had been written")
+                                          : fmt::format(
+                                                "last good frame kept: {} (the state at step {} passed "
+                                                "the health check)",
+                                                last.string(), good);
+    fail(ErrorKind::Numerical, "{}\nrun stopped; {}; probes up to the failure in {}", e.what(), kept,
+         (dir / "probes.csv").string());
+  }
+  const double run_seconds = seconds_since(t0);
+  // A checkpoint at the end lets a later `--restart` (with more steps) continue the run.
+  if (STRATA_WITH_HDF5) {
+    result.checkpoint = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
+    out.add_written(result.checkpoint);
+  }
+  out.finish(m, model, run_seconds, "completed");
+  RunResult r = finish_result();
+  observer.stepped(r);
+  out.pictures(sc);
+  r.written = out.written();
+  return r;
+}
+
+}  // namespace strata::scene

@@ -1,0 +1,302 @@
+#pragma once
+// Internal: everything a run writes (probes, frames, breaks, summary, pictures), in one place.
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <strata/config.hpp>
+#include <strata/core/log.hpp>
+#include <strata/core/state_io.hpp>
+#include <strata/io/csv.hpp>
+#include <strata/io/plot.hpp>
+#include <strata/io/render.hpp>
+#include <strata/io/series.hpp>
+#include <strata/scene/files.hpp>
+#include <strata/scene/frames.hpp>
+#include <strata/scene/model.hpp>
+#include <strata/scene/scene.hpp>
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace strata::scene {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+class RunOutput {
+ public:
+  /// `resume`: a restart from a checkpoint taken after the outputs of its step were written;
+  /// frames and probe rows later than that step (written before the run stopped) are dropped.
+  RunOutput(const fs::path& dir, const Scene& sc, const BuiltModel& m, const StateReader* resume)
+      : dir_(dir),
+        out_(sc.table("output")),
+        fields_(out_.strings("fields")),
+        title_(sc.table("scene").str("title")),
+        particles_(dir, "particles", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh),
+        bonds_(dir, "bonds", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh) {
+    std::vector<std::string> cols{"step", "time"};
+    if (m.platens.enabled) cols.insert(cols.end(), {"strain", "stress", "force_top", "force_bottom"});
+    cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
+                             "broken_tension", "broken_shear", "contacts"});
+    if (!resume) {
+      probes_.emplace(dir / "probes.csv", cols);
+      return;
+    }
+    first_step_ = m.sim.step_count();
+    particles_.truncate_after(m.sim.time());
+    bonds_.truncate_after(m.sim.time());
+    probes_.emplace(io::CsvWriter::append(dir / "probes.csv", cols, double(m.sim.step_count())));
+    time_ = resume->get<double>("driver/probes/time");
+    kinetic_ = resume->get<double>("driver/probes/kinetic_energy", time_.size());
+    bond_ = resume->get<double>("driver/probes/bond_energy", time_.size());
+    work_ = resume->get<double>("driver/probes/external_work", time_.size());
+    strain_ = resume->get<double>("driver/probes/strain");
+    stress_ = resume->get<double>("driver/probes/stress", strain_.size());
+    probe_steps_ = resume->get<std::int64_t>("driver/probes/step", strain_.size());
+  }
+
+  /// The probe series kept for the summary and the plots (part of a checkpoint).
+  void save(StateWriter& w) const {
+    w.put("driver/probes/time", time_);
+    w.put("driver/probes/kinetic_energy", kinetic_);
+    w.put("driver/probes/bond_energy", bond_);
+    w.put("driver/probes/external_work", work_);
+    w.put("driver/probes/strain", strain_);
+    w.put("driver/probes/stress", stress_);
+    w.put("driver/probes/step", probe_steps_);
+  }
+
+  /// How pictures look: the scene's title and [output] render_field, render_contacts,
+  /// view_direction, view_up and clip_plane (checked by check_render_keys).
+  io::RenderStyle render_style() const {
+    io::RenderStyle style = field_style(out_.str("render_field"));
+    style.title = title_;
+    style.show_contacts = out_.boolean("render_contacts");
+    for (std::size_t a = 0; a < 3; ++a) {
+      style.view_direction[a] = out_.reals("view_direction")[a];
+      style.view_up[a] = out_.reals("view_up")[a];
+    }
+    if (out_.has("clip_plane")) {
+      std::array<double, 6> c{};
+      std::copy_n(out_.reals("clip_plane").begin(), 6, c.begin());
+      style.clip_plane = c;
+    }
+    return style;
+  }
+
+  /// Checks what the schema cannot: no zero view or clip normal, up not along the view.
+  static void check_render_keys(const Table& out) {
+    auto norm = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
+    const double* d = out.reals("view_direction").data();
+    const double* u = out.reals("view_up").data();
+    if (norm(d) == 0) out.fail("view_direction", "the view direction must not be zero");
+    if (norm(u) == 0) out.fail("view_up", "the up vector must not be zero");
+    const double cross[3] = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
+    if (norm(cross) <= 1e-9 * norm(d) * norm(u))
+      out.fail("view_up", "the up vector must not be parallel to view_direction");
+    if (out.has("clip_plane") && norm(out.reals("clip_plane").data() + 3) == 0)
+      out.fail("clip_plane", "the clip plane's normal (the last three numbers) must not be zero");
+  }
+
+  /// Step of the last frame written by this process (-1: none).
+  std::int64_t last_frame_step() const { return last_frame_step_; }
+  /// The last frame listed in the series, or an empty path.
+  fs::path last_frame() const {
+    return particles_.frames().empty() ? fs::path() : dir_ / particles_.frames().back().file;
+  }
+
+  void probe(const BuiltModel& m) {
+    const auto& s = m.sim;
+    std::vector<double> row{double(s.step_count()), s.time()};
+    if (m.platens.enabled) {
+      const AxialState a = axial_state(m);
+      row.insert(row.end(), {a.strain, a.stress, a.force_top, a.force_bottom});
+      strain_.push_back(a.strain);
+      stress_.push_back(a.stress);
+      probe_steps_.push_back(s.step_count());
+    }
+    row.insert(row.end(), {s.kinetic_energy(), s.bond_energy(), s.external_work(), s.damping_dissipation(),
+                           double(s.broken_count(dem::BreakMode::Tension)),
+                           double(s.broken_count(dem::BreakMode::Shear)), double(s.contact_count())});
+    time_.push_back(s.time());
+    kinetic_.push_back(s.kinetic_energy());
+    bond_.push_back(s.bond_energy());
+    work_.push_back(s.external_work());
+    probes_->row(row);
+  }
+
+  void frame(const BuiltModel& m) {
+    last_frame_step_ = m.sim.step_count();
+    if (!out_.boolean("vtk")) return;
+    const io::PointCloud all = particle_frame(m.sim, fields_);
+    const io::PointCloud pc = select_particles(m.sim, all, selection_);
+    const io::LineSet bonds = bond_frame(m.sim, selection_);
+    particles_.add_particles(m.sim.time(), pc);
+    bonds_.add_lines(m.sim.time(), all, bonds);
+#if STRATA_WITH_RENDER
+    if (out_.boolean("render") && out_.boolean("render_while_running")) {
+      io::RenderRequest req;
+      req.particles = &pc;
+      req.bonds = &bonds;
+      req.bond_points = &all;
+      req.png = dir_ / "png" / fmt::format("frame_{:06d}.png", particles_.frames().size() - 1);
+      req.style = render_style();
+      io::render_frame(req);
+      rendered_while_running_ = true;
+    }
+#endif
+  }
+
+  void set_selection(FrameSelection sel) { selection_ = std::move(sel); }
+
+  /// Particles and bonds the frames hold, from [output]; groups by name. Validates, so call
+  /// it before anything is written.
+  static FrameSelection selection(BuiltModel& m, const Table& out) {
+    FrameSelection selection_;
+    const std::string& p = out.str("particles");
+    selection_.particles = p == "surface" ? FrameSelection::Particles::Surface
+                           : p == "none"  ? FrameSelection::Particles::None
+                                          : FrameSelection::Particles::All;
+    const std::string& b = out.str("bonds");
+    selection_.bonds = b == "all"    ? FrameSelection::Bonds::All
+                       : b == "none" ? FrameSelection::Bonds::None
+                                     : FrameSelection::Bonds::Broken;
+    selection_.contacts = out.boolean("contacts");
+    check_render_keys(out);
+    for (const auto& g : out.strings("groups")) {
+      if (!m.groups.count(g)) out.fail("groups", fmt::format("no [[group]] or [[region]] is called '{}'", g));
+      selection_.group_mask |= 1u << m.sim.group_bit(g);
+    }
+    selection_.slice_thickness = out.real("slice_thickness");
+    for (std::size_t a = 0; a < 3; ++a) {
+      selection_.slice_point[a] = a < out.reals("slice_point").size() ? out.reals("slice_point")[a] : 0.0;
+      selection_.slice_normal[a] = a < out.reals("slice_normal").size() ? out.reals("slice_normal")[a] : 0.0;
+    }
+    double len = 0;
+    for (double c : selection_.slice_normal) len += c * c;
+    if (selection_.slice_thickness > 0 && len == 0)
+      out.fail("slice_normal", "the slice normal must not be zero");
+    for (double& c : selection_.slice_normal) c /= len > 0 ? std::sqrt(len) : 1.0;
+    if (selection_.particles == FrameSelection::Particles::Surface) selection_.find_surface(m.sim);
+    return selection_;
+  }
+
+  /// Writes what is known at the end of a run (or at a failure): breaks, summary, plots.
+  void finish(const BuiltModel& m, const json& model, double run_seconds, const std::string& status) {
+    probes_->close();
+    io::CsvWriter breaks(dir_ / "breaks.csv", {"step", "time", "x", "y", "z", "mode", "id_i", "id_j"});
+    for (const auto& b : m.sim.breaks())
+      breaks.row({double(b.step), double(b.step) * m.dt, b.position[0], b.position[1], b.position[2],
+                  double(int(b.mode)), double(b.id_i), double(b.id_j)});
+    breaks.close();
+
+    json summary = model;
+    summary["status"] = status;
+    summary["steps_done"] = m.sim.step_count();
+    summary["wall_seconds"] = run_seconds;
+    // this process's steps (a restart continues from first_step_)
+    summary["particle_steps_per_s"] =
+        run_seconds > 0
+            ? double(m.sim.particle_count()) * double(m.sim.step_count() - first_step_) / run_seconds
+            : 0.0;
+    if (first_step_ > 0) summary["restarted_at_step"] = first_step_;
+    summary["state_hash"] = fmt::format("{:016x}", m.sim.state_hash());
+    summary["broken_tension"] = m.sim.broken_count(dem::BreakMode::Tension);
+    summary["broken_shear"] = m.sim.broken_count(dem::BreakMode::Shear);
+    if (!stress_.empty()) {
+      const auto peak = std::max_element(stress_.begin(), stress_.end()) - stress_.begin();
+      summary["peak_stress_pa"] = stress_[peak];
+      summary["peak_strain"] = strain_[peak];
+      // First tensile break: the strain of the first probe row at or after its step.
+      for (const auto& b : m.sim.breaks()) {
+        if (b.mode != dem::BreakMode::Tension) continue;
+        const auto it = std::lower_bound(probe_steps_.begin(), probe_steps_.end(), b.step);
+        if (it != probe_steps_.end()) summary["tensile_onset_strain"] = strain_[it - probe_steps_.begin()];
+        break;
+      }
+    }
+    write_file_atomic(dir_ / "summary.json", summary.dump(2) + "\n");
+    written_.push_back(dir_ / "summary.json");
+    written_.push_back(dir_ / "probes.csv");
+    written_.push_back(dir_ / "breaks.csv");
+    if (!particles_.frames().empty()) {
+      written_.push_back(particles_.pvd_path());
+      written_.push_back(bonds_.pvd_path());
+    }
+  }
+
+  /// Plots and pictures (needs STRATA_WITH_RENDER).
+  void pictures(const Scene& sc) {
+    if (!out_.boolean("render")) return;
+#if STRATA_WITH_RENDER
+    const std::string& title = title_;
+    if (!stress_.empty()) {
+      io::PlotRequest p;
+      p.title = title.empty() ? "Axial stress against axial strain" : title;
+      p.x_label = "axial strain [-]";
+      p.y_label = "axial stress [MPa]";
+      std::vector<double> mpa(stress_.size());
+      for (std::size_t i = 0; i < mpa.size(); ++i) mpa[i] = stress_[i] / 1e6;
+      p.series.push_back({"strata", strain_, mpa});
+      p.png = dir_ / "stress_strain.png";
+      io::plot_xy(p);
+      written_.push_back(p.png);
+    }
+    {
+      io::PlotRequest p;
+      p.title = "Energy";
+      p.x_label = "time [s]";
+      p.y_label = "energy [J]";
+      p.series.push_back({"kinetic", time_, kinetic_});
+      p.series.push_back({"bond strain", time_, bond_});
+      p.series.push_back({"work of external forces", time_, work_});
+      p.png = dir_ / "energy.png";
+      io::plot_xy(p);
+      written_.push_back(p.png);
+    }
+    if (!particles_.frames().empty()) {
+      if (!rendered_while_running_) {
+        const auto pngs =
+            io::render_series(particles_.pvd_path(), dir_ / "png", render_style(), bonds_.pvd_path());
+        if (pngs.empty()) return;
+      }
+      written_.push_back(dir_ / "png" / "");
+      if (out_.boolean("movie") && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
+        written_.push_back(dir_ / "movie.mp4");
+    }
+#else
+    (void)sc;
+    log::warn("pictures skipped: this build has no rendering (reconfigure with -DSTRATA_WITH_RENDER=ON)");
+#endif
+  }
+
+  /// Drops frames later than `time` from the series (they may hold a blow-up in progress);
+  /// returns the last frame kept, or an empty path.
+  fs::path keep_frames_until(double time) {
+    if (particles_.frames().empty()) return {};
+    particles_.truncate_after(time);
+    bonds_.truncate_after(time);
+    return particles_.frames().empty() ? fs::path() : dir_ / particles_.frames().back().file;
+  }
+
+  const std::vector<fs::path>& written() const { return written_; }
+  void add_written(const fs::path& p) { written_.push_back(p); }
+
+ private:
+  fs::path dir_;
+  const Table& out_;
+  std::vector<std::string> fields_;
+  std::string title_;
+  FrameSelection selection_;
+  bool rendered_while_running_ = false;
+  io::Series particles_, bonds_;
+  std::optional<io::CsvWriter> probes_;
+  std::vector<double> time_, kinetic_, bond_, work_, strain_, stress_;
+  std::vector<std::int64_t> probe_steps_;
+  std::vector<fs::path> written_;
+  std::int64_t last_frame_step_ = -1;
+  std::int64_t first_step_ = 0;
+};
+
+}  // namespace strata::scene
