@@ -14,11 +14,12 @@
 using namespace strata;
 
 namespace {
-dem::Material c1() { return dem::spec_c1_rock(); }
+// The solid-lattice rock of Liu, Pollard & Shi (2013) for 1 mm disks.
+dem::Material lattice_rock() { return dem::spec_c1_rock(); }
 
 // The solid-lattice law alone on a stream of intact pairs (the hot path of the step loop).
 void BM_SolidLatticeLawIntact(benchmark::State& state) {
-  const auto m = c1();
+  const auto m = lattice_rock();
   const dem::SolidLatticeLaw law{m.kn, m.ks, m.friction, m.tensile_strength, m.shear_strength, false};
   const std::size_t n = 4096;
   std::vector<std::uint8_t> st(n, dem::pair_state::kIntact);
@@ -52,7 +53,7 @@ void BM_Step(benchmark::State& state) {
   dem::Settings s;
   s.dt = 1e-15;
   dem::Simulation sim(dim, s);
-  const int mat = sim.add_material(c1());
+  const int mat = sim.add_material(lattice_rock());
   for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
   sim.bond_touching_pairs();
   sim.initialise();

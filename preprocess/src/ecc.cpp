@@ -1,4 +1,4 @@
-// Eccentric lattices (ECC4D, SPEC C4) and bond lists (see ecc.hpp).
+// Eccentric lattices (ECC4D, Zhao et al. 2021) and bond lists (see ecc.hpp).
 #include "strata/preprocess/ecc.hpp"
 
 #include <strata/core/error.hpp>

@@ -26,10 +26,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-Material c1_material() { return strata::dem::spec_c1_rock(); }  // SPEC C1, breakable
+// The solid-lattice rock of Liu, Pollard & Shi (2013) for 1 mm disks, with breakable bonds.
+Material lattice_rock() { return strata::dem::spec_c1_rock(); }
 constexpr double kD = 1e-3;
 
-/// 2D: a C1 block squeezed fast between two platen rows so that bonds break and contacts
+/// 2D: a block of that rock squeezed fast between two platen rows so that bonds break and contacts
 /// form within a few hundred steps (viscous damping, contact detection, Verlet rebuilds).
 Simulation build_2d() {
   const preprocess::Lattice lat = preprocess::hex2d_rows(30, 28, kD);
@@ -38,7 +39,7 @@ Simulation build_2d() {
                              .viscous_c = 1.16e3,
                              .energy_check_every = 100,
                              .min_particles_per_thread = 1});
-  const int mat = sim.add_material(c1_material());
+  const int mat = sim.add_material(lattice_rock());
   for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
   sim.add_to_group(preprocess::top_row(lat), "top");
   sim.add_to_group(preprocess::bottom_row(lat), "bottom");
@@ -61,7 +62,7 @@ Simulation build_3d() {
                              .gravity = {0, 0, -9.81},
                              .energy_check_every = 50,
                              .min_particles_per_thread = 1});
-  const int mat = sim.add_material(c1_material());
+  const int mat = sim.add_material(lattice_rock());
   double xmax = -1;
   for (const auto& p : lat.x) {
     sim.add_particle(p, lat.radius, mat);
@@ -226,7 +227,7 @@ TEST(Checkpoint, RefusesAnotherDimensionOrParticleCount) {
     EXPECT_NE(std::string(e.what()).find("2D model, this model is 3D"), std::string::npos) << e.what();
   }
   Simulation other(2, Settings{.dt = 1e-9});
-  other.add_particle({0, 0, 0}, 5e-4, other.add_material(c1_material()));
+  other.add_particle({0, 0, 0}, 5e-4, other.add_material(lattice_rock()));
   try {
     other.load_state(m);
     FAIL() << "a state loaded into a model with another particle count";

@@ -27,7 +27,7 @@ TEST(CliCoupled, CheckRefusesThePapersStepNamingBothLimits) {
   const fs::path paper = kExample / "paper.toml";
   const auto r = strata("check " + paper.string());
   EXPECT_EQ(r.status, 2) << r.output;
-  EXPECT_NE(r.output.find(paper.string() + ":11:10: dt_DEM = 0.0001 s is unstable"), std::string::npos)
+  EXPECT_NE(r.output.find(paper.string() + ":12:10: dt_DEM = 0.0001 s is unstable"), std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("7.68e-05 s for the whole chain"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("8.01e-05 s for the DEM partition alone"), std::string::npos) << r.output;

@@ -124,8 +124,9 @@ TEST(FemDynamics, SecondOrderConvergenceInDt) {
   }
 }
 
-// SPEC C3 "Careful": with lumped mass the paper's predictor-corrector Newmark is explicit and
-// stable only for ω·dt <= 2 (γ = 1/2) whatever β; the implicit one runs at any dt.
+// The predictor-corrector Newmark of Li, Jin, Wang, Pan & Yang (2023), which that paper calls
+// unconditionally stable for β = 1/4, γ = 1/2: with lumped mass it is explicit and stable only
+// for ω·dt <= 2 (γ = 1/2) whatever β; the implicit one runs at any dt.
 // (β = 1/2 is also bounded below ω·dt = 2 but its amplitude swings grow like 1/√(4 − (ω dt)²)
 // near the limit, which the energy check rightly flags; β = 0 and the paper's 1/4 are tested.)
 TEST(FemDynamics, PredictorCorrectorNewmarkLimitIsTwoOverOmega) {
@@ -195,7 +196,7 @@ TEST(FemDynamics, DampingAwareLimit) {
 
 // Element eigenvalues bound the global ω_max from above (dt from them is conservative), the
 // Lanczos value matches a dense solve, and h_min/c is NOT conservative for triangles and
-// tetrahedra: it exceeds the exact global limit (SPEC pitfalls).
+// tetrahedra: it exceeds the exact global limit (the exact element limits are 0.67–0.92 of it).
 TEST(FemDynamics, CriticalStepElementBoundVersusExactVersusHOverC) {
   const Material tri{.E = 3e10, .nu = 0.25, .rho = 2500, .thickness = 1.0};
   Mesh m2 = rectangle_tri_mesh(6, 4, 1.2, 0.8, tri);

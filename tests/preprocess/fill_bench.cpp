@@ -1,4 +1,5 @@
-// Throughput of lattice filling from a geometry file (SPEC C4 "large models from meshes").
+// Throughput of lattice filling from a geometry file (large models from meshes, as in ECC4D:
+// Zhao, Qiao, Zhang, Sun & Chen 2021).
 //   strata_fill_bench FILE D [hex|hcp|fcc] [min_boundary_distance] [threads]
 // prints one JSON object: particles, seconds (fill only), particles_per_s, read_seconds,
 // elements, peak_rss_bytes.

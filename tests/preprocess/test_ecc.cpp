@@ -1,4 +1,5 @@
-// Eccentric lattices (ECC4D, SPEC C4): bond statistics against what the offsets imply.
+// Eccentric lattices (ECC4D, Zhao, Qiao, Zhang, Sun & Chen 2021): bond statistics against
+// what the offsets imply.
 #include <gtest/gtest.h>
 
 #include <strata/core/parallel.hpp>
@@ -87,7 +88,8 @@ TEST(Ecc, SphereOffsetsHaveFixedLengthAndNoDrift) {
     EXPECT_NEAR(std::sqrt(dx * dx + dy * dy + dz * dz), a, 1e-15);
     mz += dz;
   }
-  // Uniform on the whole sphere: the mean z offset is 0 (the paper's formula would give a/2).
+  // Uniform on the whole sphere: the mean z offset is 0 (the formula of Zhao et al. 2021
+  // would give a/2).
   EXPECT_NEAR(mz / double(l.size()), 0.0, 4 * a / std::sqrt(3.0 * double(l.size())));
   // Same second moments as Type A: bond length sd ≈ a·√(2/3).
   EXPECT_NEAR(moments(e.bonds.length).sd, a * std::sqrt(2.0 / 3.0), 0.06 * a * std::sqrt(2.0 / 3.0));
@@ -99,7 +101,7 @@ TEST(Ecc, WeakenedBondsAreTheLongOnes) {
   o.type = Eccentricity::Cube;
   o.ra = 0.9;
   o.rc = 0.5;
-  o.gamma = 0.001;  // SPEC C4's case
+  o.gamma = 0.001;  // the case of Zhao et al. 2021 (Ra 0.9, Rc 0.5, γ 0.001)
   const EccLattice e = make_eccentric(l, o);
   std::size_t weak = 0;
   for (std::size_t k = 0; k < e.bonds.size(); ++k) {

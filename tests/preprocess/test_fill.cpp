@@ -32,7 +32,7 @@ bool all_distinct(const Lattice& l) {
 
 /// Counting centres inside: the count is measure / (area or volume per site) up to the
 /// sites near the boundary, whose share falls as 1/size; we compare within 1 % for regions of
-/// 2e4 or more sites (SPEC C4 "counts match volume × packing density").
+/// 2e4 or more sites.
 void expect_count_matches_measure(const RegionFill& f, double cell, double tol = 0.01) {
   const double expected = f.measure / cell;
   EXPECT_NEAR(double(f.lattice.size()), expected, tol * expected)

@@ -1,4 +1,5 @@
-// A 2D plate with two circular holes (the double-hole blast plate of SPEC C4, scaled):
+// A 2D plate with two circular holes (the double-hole blast plate of Zhao, Qiao, Zhang, Sun &
+// Chen 2021, scaled):
 // 0.2 m x 0.1 m, holes of radius 0.01 m centred at (0.05, 0.05) and (0.15, 0.05).
 // Area = 0.02 - 2*pi*1e-4 = 0.019371681 m^2.
 W = 0.2; H = 0.1; R = 0.01; lc = 0.01;

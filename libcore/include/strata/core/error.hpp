@@ -1,7 +1,7 @@
 #pragma once
 /// Errors and checks shared by every strata library.
 ///
-/// Two tiers (STYLE.md §7):
+/// Two tiers:
 ///  - STRATA_CHECK: always on; for user input, files and numerical health. Throws
 ///    strata::Error carrying the values involved.
 ///  - STRATA_ASSERT: debug builds only; internal invariants.

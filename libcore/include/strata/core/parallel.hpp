@@ -1,5 +1,6 @@
 #pragma once
-/// The one place in strata that knows about OpenMP (STYLE.md §4).
+/// The one place in strata that knows about OpenMP threads (with parallel.cpp): kernels call
+/// parallel_for and the reductions below instead of opening parallel regions themselves.
 ///
 /// Every loop is statically scheduled and every reduction is summed in a fixed order over
 /// fixed-size blocks, so results are bit-for-bit identical for any number of threads.

@@ -1,5 +1,7 @@
 #pragma once
-/// The chain cases of SPEC C3 and the η sweeps behind `strata report`:
+/// The chain cases of Li, Jin, Wang, Pan & Yang (2023), "Parallel computing method of
+/// FEM–DEM with multiple-time step based on overlapping boundary", and the η sweeps behind
+/// `strata report`:
 ///  - the 6-DOF chain wall–k1–m1–…–k6–m6 (k = 1 N/m, m = 1 kg, P·sin(ωt) on m2, P = 1 N,
 ///    ω = π/2; FEM m1..m4, DEM m3..m6) against its exact modal solution;
 ///  - the metamaterial chain (800 outer masses, 200 resonators) against a monolithic implicit
@@ -57,7 +59,7 @@ fem::Solver monolithic_solver(const ChainModel& model, const fem::SolverSettings
 
 // ---- the 6-DOF chain ----------------------------------------------------------------
 
-/// SPEC C3 6-DOF chain (global nodes 0..5 = m1..m6). FEM nodes {0,1,2,3}, DEM {2,3,4,5}.
+/// The 6-DOF chain (global nodes 0..5 = m1..m6). FEM nodes {0,1,2,3}, DEM {2,3,4,5}.
 ChainModel chain6_model();
 /// Exact displacement of every mass, from rest, by modal superposition:
 /// q_j(t) = p_j/(ω_j² − Ω²)·(sin Ωt − (Ω/ω_j) sin ω_j t), u = Σ φ_j q_j (M = I).
@@ -75,10 +77,11 @@ class Chain6Exact {
 
 // ---- the metamaterial chain ---------------------------------------------------------
 
-/// SPEC C3 "metamaterial" chain: outer masses 1..800 (global 0..799, m_s = 0.05 kg, k_n =
+/// The "metamaterial" chain: outer masses 1..800 (global 0..799, m_s = 0.05 kg, k_n =
 /// 7.8e6 N/m between neighbours), outer mass 800 tied to a wall by k_n, resonators (global
 /// 800..999, m_v = 0.05 kg, k_s = 2.49e6 N/m) on outer masses 101..300. A half-sine force
-/// pulse P(t) = amplitude·sin(π t / duration), 0 <= t <= duration, on outer mass 1 (free end).
+/// pulse P(t) = amplitude·sin(π t / duration), 0 <= t <= duration, on outer mass 1 (free end);
+/// the paper shows its pulse only in a figure, so amplitude and duration are strata's.
 struct MetamaterialParams {
   double pulse_amplitude = 100;  ///< N
   double pulse_duration = 1e-3;  ///< s
@@ -105,7 +108,7 @@ struct MetamaterialStability {
 MetamaterialStability metamaterial_stability();
 /// Throws strata::Error(Input) when dt_dem exceeds the stable limit, naming the limits
 /// (7.68e-5 s whole chain; 8.0e-5 s DEM partition alone): what `strata check` reports for
-/// the paper's dt_DEM = 1e-4 s.
+/// the paper's dt_DEM = 1e-4 s, which is unstable for any explicit scheme.
 void check_metamaterial_dt(double dt_dem, bool allow_unstable = false);
 
 // ---- sweeps -------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 #pragma once
 /// DEM-side partition: a libdem bonded-particle `dem::Simulation` (2D or 3D) as a coupled
-/// partition (SPEC C3).
+/// partition (the overlapping-boundary coupling of Li, Jin, Wang, Pan & Yang 2023).
 ///
 /// DOFs: d = particle_id·dim + axis (particle ids as returned by `add_particle`, in the
 /// order of the calls; libdem's internal spatial sort is invisible here).

@@ -1,7 +1,8 @@
 #pragma once
-/// A partition of a coupled model (SPEC C3): a solver that owns some DOFs, advances by its
-/// own time step, shows the displacement and velocity of any of its DOFs, and accepts
-/// prescribed values for its external DOFs (the other partition's boundary).
+/// A partition of a coupled model (overlapping-boundary coupling with multiple time steps, Li,
+/// Jin, Wang, Pan & Yang 2023): a solver that owns some DOFs, advances by its own time step,
+/// shows the displacement and velocity of any of its DOFs, and accepts prescribed values for
+/// its external DOFs (the other partition's boundary).
 ///
 /// The coupler talks only to this interface, so the FEM (libfem) and DEM sides are
 /// interchangeable. Implementations: FemPartition (a libfem Solver), DemPartition (a libdem

@@ -1,7 +1,7 @@
 #pragma once
 /// DEM-side partition for chains and spring networks: point masses with one DOF each,
 /// linear springs between DOFs and to the ground, nodal loads, integrated by velocity Verlet
-/// (the libdem integrator; SPEC C3 "DEM: velocity Verlet on bonded particles"):
+/// (the libdem integrator, and the DEM integrator of Li, Jin, Wang, Pan & Yang 2023):
 ///   v += dt/2·a;  u += dt·v;  a = M⁻¹ f(u, t+dt);  v += dt/2·a.
 /// Critical step from the rigorous bound ω² <= max_i (2 Σ_{springs at i} k + Σ_{ground} k)/m_i
 /// (the same bound libdem uses, 2·λmax(Σ K_b)/m); for a uniform chain ω = 2√(k/m).

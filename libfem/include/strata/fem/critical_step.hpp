@@ -3,7 +3,9 @@
 /// from the global highest frequency (Lanczos, for reporting), with Rayleigh damping.
 ///
 /// Why element eigenvalues and not h/c: for linear triangles and tetrahedra the exact
-/// element limit is only 0.67–0.92 of h_min/c (SPEC, pitfalls), so h/c is not conservative.
+/// element limit is only 0.67–0.92 of h_min/c (c = √((λ+2μ)/ρ), the dilatational wave
+/// speed; the ratio depends on the element's shape and ν), so h/c is not conservative
+/// (tests/fem/test_fem_dynamics.cpp shows it on irregular meshes).
 /// The element bound: split every node's lumped mass among the elements that share it
 /// (M = Σ_e M_e*); then uᵀKu = Σ_e uᵀK_e u ≤ Σ_e λ_e uᵀM_e* u ≤ (max_e λ_e)·uᵀMu, so
 /// ω²_max ≤ max_e λmax(K_e, M_e*). Each element's share is its own lumped mass where every

@@ -1,6 +1,7 @@
 #pragma once
 /// Element kernels: stiffness matrix and lumped mass of one linear elastic element.
-/// Small stateless functions (STYLE.md §3); the assembly loop calls element_matrices().
+/// Small stateless functions with no virtual dispatch; the assembly loop calls
+/// element_matrices().
 #include <strata/fem/mesh.hpp>
 
 #include <cstdint>

@@ -7,11 +7,14 @@
 ///      v_{n+½} = v_n + dt/2·a_n;  u_{n+1} = u_n + dt·v_{n+½};
 ///      a_{n+1} = M⁻¹(F_{n+1} − K u_{n+1} − C v_{n+½});  v_{n+1} = v_{n+½} + dt/2·a_{n+1}.
 ///    Identical to velocity Verlet without damping. Stable for dt <= (2/ω)(√(1+ξ²) − ξ).
-///  - ExplicitNewmark: the predictor-corrector Newmark of SPEC C3 (seed 001, β, γ given):
+///  - ExplicitNewmark: the predictor-corrector Newmark (β, γ given) of Li, Jin, Wang, Pan &
+///    Yang (2023), "Parallel computing method of FEM–DEM with multiple-time step based on
+///    overlapping boundary", eqs. 2–3:
 ///      ũ = u + dt·v + dt²(½ − β)·a;  ṽ = v + dt(1 − γ)·a;  a_{n+1} = M⁻¹(F − K ũ − C ṽ);
 ///      u_{n+1} = ũ + β dt²·a_{n+1};  v_{n+1} = ṽ + γ dt·a_{n+1}.
 ///    With lumped M this is explicit and only conditionally stable: ω·dt <= 2 for γ = ½
-///    whatever β (checked by test) — not unconditionally stable, as the paper says.
+///    whatever β (checked by test) — not unconditionally stable, as that paper says of it
+///    with β = ¼, γ = ½.
 ///  - ImplicitNewmark: (M + γ dt C + β dt² K)·a_{n+1} = F − K ũ − C ṽ, same predictor and
 ///    corrector; the matrix is factorised once (SimplicialLDLT) and reused. β = ¼, γ = ½
 ///    (average acceleration) is unconditionally stable and second order.

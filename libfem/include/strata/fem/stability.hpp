@@ -15,9 +15,11 @@ inline double central_difference_dt_crit(double omega, double xi = 0.0) {
 
 /// Largest stable step of Newmark's scheme with parameters beta, gamma for an undamped mode
 /// of frequency `omega`: unconditionally stable (returns +inf) when 2*beta >= gamma >= 1/2;
-/// otherwise omega*dt <= 1/sqrt(gamma/2 - beta). With a lumped mass and the predictor-
-/// corrector form of SPEC C3 the scheme is explicit and the limit is omega*dt <= 2 for
-/// gamma = 1/2 whatever beta: call with beta = 0 for that case.
+/// otherwise omega*dt <= 1/sqrt(gamma/2 - beta) (Hughes, The Finite Element Method, 1987,
+/// ch. 9). With a lumped mass and the predictor-corrector form of Li, Jin, Wang, Pan & Yang
+/// (2023), where a_{n+1} = M⁻¹(F − K ũ − C ṽ) at the predicted state, the scheme is explicit
+/// and the limit is omega*dt <= 2 for gamma = 1/2 whatever beta: call with beta = 0 for that
+/// case.
 inline double newmark_dt_crit(double omega, double beta, double gamma) {
   if (gamma >= 0.5 && 2.0 * beta >= gamma) return INFINITY;
   return 1.0 / (omega * std::sqrt(gamma / 2.0 - beta));

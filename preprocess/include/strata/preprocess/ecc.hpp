@@ -1,14 +1,15 @@
 #pragma once
-/// Eccentric lattices (ECC4D, SPEC C4): each particle's centroid moves by a random offset,
-/// the bonds stay those of the regular lattice, and bonds longer than Rc·L_max are
-/// weakened (k -> γ·k).
+/// Eccentric lattices (ECC4D of Zhao, Qiao, Zhang, Sun & Chen 2021, "Eccentric
+/// four-dimensional lattice spring model for heterogeneous rock fracturing"): each particle's
+/// centroid moves by a random offset, the bonds stay those of the regular lattice, and bonds
+/// longer than Rc·L_max are weakened (k -> γ·k).
 ///
 /// Bonding rule: the bonds of an eccentric lattice are the pairs that touch in the regular
 /// lattice (centre distance d), found with a cell grid before the offsets are applied; their
 /// lengths are measured after. (Bonding "touching pairs" after the offsets would lose most
 /// bonds, since offset particles no longer touch.)
 ///
-/// Type B offsets (sphere): SPEC C4 quotes θ = arccos(U(0,1)), φ = 2π·U(−1,1), which only
+/// Type B offsets (sphere): that paper gives θ = arccos(U(0,1)), φ = 2π·U(−1,1), which only
 /// covers the hemisphere z >= 0 and shifts every centroid upward on average by Ra·R/2.
 /// strata draws uniformly on the whole sphere (cos θ = U(−1,1), φ = 2π·U(0,1)); in 2D on the
 /// circle of radius Ra·R. Offsets come from a counter-based generator keyed by (seed,

@@ -25,13 +25,14 @@ struct Lattice {
 };
 
 /// 2D hexagonal lattice in [x0, x0+W] × [y0, y0+H]: rows along x spaced d·√3/2, odd rows
-/// shifted by d/2, keeping the sites whose whole disk lies inside the box (SPEC C1:
-/// W = 0.030, H = 0.0305, d = 0.001 gives 1033 disks in 35 rows of 30 and 29).
+/// shifted by d/2, keeping the sites whose whole disk lies inside the box (the specimen of
+/// Liu, Pollard & Shi 2013: W = 0.030, H = 0.0305, d = 0.001 gives 1033 disks in 35 rows of
+/// 30 and 29).
 Lattice hex2d_box(double x0, double y0, double width, double height, double d);
 
 /// 2D hexagonal block of `rows` rows with lower-left disk centre at (x0 + d/2, y0 + d/2):
 /// even rows have `columns` disks, odd rows `columns - 1` when `shorter_odd_rows` (a block
-/// with straight sides, like SPEC C1) or `columns` otherwise.
+/// with straight sides, like the 1033-disk specimen) or `columns` otherwise.
 Lattice hex2d_rows(int rows, int columns, double d, double x0 = 0, double y0 = 0,
                    bool shorter_odd_rows = true);
 

@@ -2,8 +2,8 @@
 /// Simplex meshes: triangles (2D) and tetrahedra (3D) for FEM regions and for the inside
 /// tests of geometry regions, plus segments / triangles for region boundaries.
 ///
-/// Layout (STYLE.md §5): node coordinates as three arrays (SoA), element connectivity as one
-/// flat array of `dim + 1` node indices per element, element index last.
+/// Layout (structure of arrays): node coordinates as three arrays (SoA), element connectivity
+/// as one flat array of `dim + 1` node indices per element, element index last.
 #include <strata/preprocess/shapes.hpp>
 
 #include <cstdint>

@@ -1,10 +1,10 @@
 #pragma once
-/// Filling meshes and geometry regions with lattice sites (SPEC C4 "large models from
-/// meshes"): the sites of each element are enumerated directly (layer by layer, row by row,
-/// the column range of each row from the element's faces), never by testing every site
-/// against every element. Two parallel passes (count per element, prefix sum, write) give a
-/// deterministic order, the same for any number of threads, and no memory beyond the sites
-/// and one counter per element.
+/// Filling meshes and geometry regions with lattice sites (large models from meshes, as ECC4D
+/// builds them: Zhao, Qiao, Zhang, Sun & Chen 2021): the sites of each element are enumerated
+/// directly (layer by layer, row by row, the column range of each row from the element's
+/// faces), never by testing every site against every element. Two parallel passes (count per
+/// element, prefix sum, write) give a deterministic order, the same for any number of threads,
+/// and no memory beyond the sites and one counter per element.
 ///
 /// Inside tests are exact: a site lies in an element when it is on the inner side of every
 /// face, by CGAL's exact orientation predicates behind a floating-point filter. A site on a
