@@ -1,6 +1,7 @@
 #pragma once
 /// `strata bench dem`: throughput and memory of the DEM step loop on a lattice block under
-/// slow uniaxial compression (C1 micro-parameters, breakable bonds, contact search on).
+/// slow uniaxial compression (the micro-parameters of Liu, Pollard & Shi 2013, breakable bonds,
+/// contact search on).
 #include <cstdint>
 #include <string>
 

@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
   cases::ReportOptions rep;
   auto* report = app.add_subcommand("report",
                                     "Coupled FEM-DEM reports over eta: error against run time of the chain "
-                                    "cases (SPEC C3), reflection of a "
+                                    "cases (chain6, metamaterial), reflection of a "
                                     "wave at a 2D coupled interface (wave): CSV, Markdown, PNG");
   report->add_option("case", rep.case_name, "chain6, metamaterial or wave")
       ->required()

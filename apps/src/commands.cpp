@@ -54,9 +54,27 @@ void print_model(const json& j) {
   std::printf("particles    %zu\nbonds        %zu\nFEM          %zu nodes, %zu elements\n",
               j["particles"].get<std::size_t>(), j["bonds"].get<std::size_t>(),
               j["fem_nodes"].get<std::size_t>(), j["fem_elements"].get<std::size_t>());
-  for (const auto& f : j.value("fem_regions", json::array()))
-    std::printf("FEM region   %-14s %zu nodes, %zu elements\n", f["name"].get<std::string>().c_str(),
-                f["nodes"].get<std::size_t>(), f["elements"].get<std::size_t>());
+  if (!j.contains("fem_integrator"))  // `strata mesh`: FEM regions as meshed
+    for (const auto& f : j.value("fem_regions", json::array()))
+      std::printf("FEM region   %-14s %zu nodes, %zu elements\n", f["name"].get<std::string>().c_str(),
+                  f["nodes"].get<std::size_t>(), f["elements"].get<std::size_t>());
+  if (j.contains("fem_integrator")) {
+    for (const auto& f : j["fem_regions"])
+      std::printf("FEM region   %-14s %zu elements, E = %.4g Pa, nu = %.4g, rho = %.4g kg/m^3\n",
+                  f["name"].get<std::string>().c_str(), f["elements"].get<std::size_t>(),
+                  f["youngs_modulus_pa"].get<double>(), f["poisson_ratio"].get<double>(),
+                  f["density_kg_m3"].get<double>());
+    for (const auto& [name, n] : j["fem_groups"].items())
+      std::printf("FEM group    %-14s %zu nodes\n", name.c_str(), n.get<std::size_t>());
+    std::printf("FEM          %s, dt = %.4g s, explicit limit %.4g s\n",
+                j["fem_integrator"].get<std::string>().c_str(), j["fem_dt_s"].get<double>(),
+                j["fem_explicit_dt_crit_s"].get<double>());
+  }
+  if (j.contains("eta"))
+    std::printf("coupling     eta = %d (%s), overlap: %zu external particles, %zu external FEM nodes\n",
+                j["eta"].get<int>(), j["coupling"].get<std::string>().c_str(),
+                j["overlap_external_particles"].get<std::size_t>(),
+                j["overlap_external_nodes"].get<std::size_t>());
   if (!j.contains("dt_s")) return;  // `strata mesh`: no DEM model built
   std::printf("memory       %.1f MB (model arrays)\n", j["memory_bytes"].get<double>() / 1e6);
   std::printf("dt_crit      %.4g s\n", j["dt_crit_s"].get<double>());
@@ -181,7 +199,7 @@ int run_scene(const SceneOptions& opt) {
   TerminalObserver observer;
   const StopSignals stop;
   const scene::RunResult r = run.execute(observer);
-  const dem::Simulation& sim = run.model().sim;
+  const scene::BuiltModel& m = run.model();
   if (r.status == scene::RunStatus::Interrupted) {
     const int sig = r.stop_reason;
     std::printf("interrupted by SIG%s at step %lld (t = %.6g s)\n", sigabbrev_np(sig), (long long)r.step,
@@ -194,10 +212,13 @@ int run_scene(const SceneOptions& opt) {
     std::fflush(stdout);
     return 128 + sig;
   }
-  log::info("{} steps in {} ({:.3g} particle-steps/s); {} bonds broken ({} tension, {} shear)",
-            r.step - r.first_step, format_duration(r.wall_seconds), r.particle_steps_per_s,
-            sim.broken_count(), sim.broken_count(dem::BreakMode::Tension),
-            sim.broken_count(dem::BreakMode::Shear));
+  if (m.has_particles())
+    log::info("{} steps in {} ({:.3g} particle-steps/s); {} bonds broken ({} tension, {} shear)",
+              r.step - r.first_step, format_duration(r.wall_seconds), r.particle_steps_per_s,
+              m.sim().broken_count(), m.sim().broken_count(dem::BreakMode::Tension),
+              m.sim().broken_count(dem::BreakMode::Shear));
+  else
+    log::info("{} steps in {}", r.step - r.first_step, format_duration(r.wall_seconds));
   std::printf("wrote:\n");
   for (const auto& p : r.written) std::printf("  %s\n", p.string().c_str());
   return 0;

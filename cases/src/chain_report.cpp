@@ -1,4 +1,4 @@
-// Error against run time of the coupled chain cases (SPEC C3): `strata report` and
+// Error against run time of the coupled chain cases (Li et al. 2023): `strata report` and
 // `strata check|run` of a coupled-chain scene share one path here:
 //   resolve options -> stability (print; refuse) -> sweep -> files through a staging folder.
 #include <strata/cases/chain_report.hpp>
@@ -199,14 +199,14 @@ std::string header(const Plan& p) {
   if (p.meta)
     return h +
            fmt::format(
-               "metamaterial chain (SPEC C3): FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = {:.3g} "
+               "metamaterial chain: FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = {:.3g} "
                "s; "
                "half-sine pulse {} N for {:.3g} s on outer mass 1; {:.3g} s simulated; error of DEM mass 250 "
                "against monolithic implicit Newmark at dt = {:.3g} s\n",
                fem::to_string(p.scheme), p.dt, p.opt.pulse_amplitude, p.opt.pulse_duration, p.duration,
                p.opt.dt_ref);
   return h + fmt::format(
-                 "6-DOF chain (SPEC C3): FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = {:.3g} s; "
+                 "6-DOF chain: FEM {} at eta*dt_DEM, DEM velocity Verlet at dt_DEM = {:.3g} s; "
                  "{:.3g} s "
                  "simulated; error of m3 against the exact modal solution\n",
                  fem::to_string(p.scheme), p.dt, p.duration);

@@ -31,9 +31,9 @@ namespace strata::cases {
 
 using scene::bond_frame;
 using scene::fem_frame;
+using scene::field_style;
 using scene::FrameSelection;
 using scene::particle_frame;
-using scene::field_style;
 using scene::write_file_atomic;
 
 namespace {
@@ -50,7 +50,7 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// SPEC C1 bonds (elastic: the pulse must not break anything).
+// The bonds of Liu, Pollard & Shi 2013 (elastic: the pulse must not break anything).
 constexpr double kKn = 6.587e10, kKs = 2.371e10, kRho = 2.65e3;
 
 fem::Mesh fem_mesh(const WaveModel& m) {
@@ -441,7 +441,7 @@ WaveModel build_wave_model(const WaveOptions& opt) {
   m.kn = kKn;
   m.ks = kKs;
   m.rho = kRho;
-  // SPEC C2: hex lattice, plane-stress interpretation per unit thickness
+  // Hexagonal lattice constants (Liu, Pollard & Shi 2013), plane stress per unit thickness
   m.E = 2 * std::sqrt(3.0) * m.kn * (m.kn + m.ks) / (3 * m.kn + m.ks);
   m.nu = (m.kn - m.ks) / (3 * m.kn + m.ks);
   m.c = std::sqrt(m.E / ((1 - m.nu * m.nu) * m.rho));
@@ -933,7 +933,7 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
     }
   }
   const std::string header1 = fmt::format(
-      "2D coupled wave (issue 6): {} ('{}' particles, '{}' FEM); {} particles of d = {:g} m (hex lattice, "
+      "2D coupled wave: {} ('{}' particles, '{}' FEM); {} particles of d = {:g} m (hex lattice, "
       "Kn = {:.4g} N/m, Ks = {:.4g} N/m, rho = {:g} kg/m^2), {} FEM nodes / {} linear triangles (plane "
       "stress, "
       "E = {:.4g} Pa, nu = {:.4f}); long-wave P speed c = {:.1f} m/s; preprocess {:.2f} s.\n"

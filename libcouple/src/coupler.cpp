@@ -33,12 +33,13 @@ Overlap make_overlap(const std::vector<std::int64_t>& fem_ids, const std::vector
                  fem_roles[f] == Role::Boundary ? "boundary" : "external", fem_ids[f]);
     const Role want = fem_roles[f] == Role::Boundary ? Role::External : Role::Boundary;
     STRATA_CHECK(dem_roles[it->second] == want, Input,
-                 "overlap: FEM {} node {} coincides with a DEM particle that is not {} (SPEC C3: FEM B + E = "
+                 "overlap: FEM {} node {} coincides with a DEM particle that is not {} (FEM B + E must be "
                  "DEM E + B)",
                  fem_roles[f] == Role::Boundary ? "boundary" : "external", fem_ids[f],
                  want == Role::External ? "external" : "boundary");
     (fem_roles[f] == Role::Boundary ? o.fem_to_dem : o.dem_to_fem)
-        .push_back(fem_roles[f] == Role::Boundary ? Link{f, it->second} : Link{it->second, f});
+        .push_back(fem_roles[f] == Role::Boundary ? Link{f, it->second, {}, {}}
+                                                  : Link{it->second, f, {}, {}});
   }
   STRATA_CHECK(
       o.fem_to_dem.size() == dem_e && o.dem_to_fem.size() == dem_b, Input,
@@ -46,6 +47,21 @@ Overlap make_overlap(const std::vector<std::int64_t>& fem_ids, const std::vector
       dem_e, dem_b, o.fem_to_dem.size(), o.dem_to_fem.size());
   STRATA_CHECK(!o.fem_to_dem.empty() && !o.dem_to_fem.empty(), Input, "overlap: empty (no boundary layer)");
   return o;
+}
+
+std::vector<Link> dof_links(const std::vector<Link>& point_links, int dim) {
+  STRATA_CHECK(dim >= 1 && dim <= 3, Input, "overlap links: dimension {} must be 1, 2 or 3", dim);
+  const auto D = static_cast<std::size_t>(dim);
+  std::vector<Link> out;
+  out.reserve(point_links.size() * D);
+  for (const Link& l : point_links)
+    for (std::size_t a = 0; a < D; ++a) {
+      Link e{l.from * D + a, l.to * D + a, {}, l.weight};
+      e.sources.reserve(l.sources.size());
+      for (std::size_t s : l.sources) e.sources.push_back(s * D + a);
+      out.push_back(std::move(e));
+    }
+  return out;
 }
 
 std::string CoupledStability::text() const {
@@ -114,8 +130,92 @@ Coupler::Coupler(Partition& fem, Partition& dem, Overlap overlap, int eta, Execu
   STRATA_CHECK(eta >= 1, Input, "eta = {} must be an integer >= 1", eta);
   STRATA_CHECK(std::abs(fem.dt() - eta * dem.dt()) <= 1e-12 * fem.dt(), Input,
                "dt_FEM = {:.6g} s must equal eta*dt_DEM = {} x {:.6g} s", fem.dt(), eta, dem.dt());
-  for (const Link& l : overlap_.fem_to_dem) dem_.make_external(l.to);
-  for (const Link& l : overlap_.dem_to_fem) fem_.make_external(l.to);
+  to_dem_ = compile(overlap_.fem_to_dem, fem_, dem_, "FEM -> DEM");
+  to_fem_ = compile(overlap_.dem_to_fem, dem_, fem_, "DEM -> FEM");
+  // a transfer reads values its source side computes: no source may be external there
+  std::vector<char> fem_ext(fem_.dofs(), 0), dem_ext(dem_.dofs(), 0);
+  for (std::size_t d : to_fem_.to) fem_ext[d] = 1;
+  for (std::size_t d : to_dem_.to) dem_ext[d] = 1;
+  auto check_sources = [](const Transfer& t, const std::vector<char>& ext, const char* what) {
+    for (std::size_t k = 0; k < t.to.size(); ++k)
+      for (std::size_t j = t.first[k]; j < t.first[k + 1]; ++j)
+        STRATA_CHECK(!ext[t.from[j]], Input,
+                     "overlap {}: external DOF {} reads DOF {}, which is external on its own side; allowed: "
+                     "sources that side computes (boundary DOFs)",
+                     what, t.to[k], t.from[j]);
+  };
+  check_sources(to_dem_, fem_ext, "FEM -> DEM");
+  check_sources(to_fem_, dem_ext, "DEM -> FEM");
+  for (std::size_t d : to_dem_.to) dem_.make_external(d);
+  for (std::size_t d : to_fem_.to) fem_.make_external(d);
+  buf_dem_.assign(2 * to_dem_.to.size(), 0.0);
+  buf_fem_.assign(2 * to_fem_.to.size(), 0.0);
+}
+
+Coupler::Transfer Coupler::compile(const std::vector<Link>& links, const Partition& src, const Partition& dst,
+                                   const char* what) {
+  Transfer t;
+  t.first.push_back(0);
+  std::vector<char> seen(dst.dofs(), 0);
+  for (const Link& l : links) {
+    STRATA_CHECK(l.to < dst.dofs(), Input, "overlap {}: target DOF {} out of range ({} DOFs in {})", what,
+                 l.to, dst.dofs(), dst.name());
+    STRATA_CHECK(!seen[l.to], Input, "overlap {}: DOF {} of {} is the target of two links", what, l.to,
+                 dst.name());
+    seen[l.to] = 1;
+    STRATA_CHECK(l.sources.size() == l.weight.size(), Input,
+                 "overlap {}: DOF {} has {} sources but {} weights", what, l.to, l.sources.size(),
+                 l.weight.size());
+    t.to.push_back(l.to);
+    if (l.sources.empty()) {
+      t.from.push_back(l.from);
+      t.weight.push_back(1.0);
+    } else {
+      t.from.insert(t.from.end(), l.sources.begin(), l.sources.end());
+      t.weight.insert(t.weight.end(), l.weight.begin(), l.weight.end());
+    }
+    t.first.push_back(t.from.size());
+    const std::size_t n = t.first.back() - t.first[t.first.size() - 2];
+    t.copy.push_back(n == 1 && t.weight.back() == 1.0 ? 1 : 0);
+  }
+  for (std::size_t j = 0; j < t.from.size(); ++j) {
+    STRATA_CHECK(t.from[j] < src.dofs(), Input, "overlap {}: source DOF {} out of range ({} DOFs in {})",
+                 what, t.from[j], src.dofs(), src.name());
+    STRATA_CHECK(std::isfinite(t.weight[j]), Input, "overlap {}: weight {} of source DOF {} is not finite",
+                 what, t.weight[j], t.from[j]);
+  }
+  return t;
+}
+
+void Coupler::Transfer::gather(const Partition& src, std::vector<double>& out) const {
+  for (std::size_t k = 0; k < to.size(); ++k) {
+    const std::size_t j0 = first[k], j1 = first[k + 1];
+    if (copy[k]) {  // the value itself: bit for bit the source's
+      out[2 * k] = src.displacement(from[j0]);
+      out[2 * k + 1] = src.velocity(from[j0]);
+      continue;
+    }
+    double u = weight[j0] * src.displacement(from[j0]), v = weight[j0] * src.velocity(from[j0]);
+    for (std::size_t j = j0 + 1; j < j1; ++j) {
+      u += weight[j] * src.displacement(from[j]);
+      v += weight[j] * src.velocity(from[j]);
+    }
+    out[2 * k] = u;
+    out[2 * k + 1] = v;
+  }
+}
+
+void Coupler::Transfer::scatter(Partition& dst, const std::vector<double>& in) const {
+  for (std::size_t k = 0; k < to.size(); ++k) dst.set_external(to[k], in[2 * k], in[2 * k + 1]);
+}
+
+void Coupler::exchange() {
+  // Jacobi exchange: both sides' values at t_n are gathered before either is prescribed
+  // (set_external only touches external DOFs, which no transfer reads)
+  to_dem_.gather(fem_, buf_dem_);
+  to_fem_.gather(dem_, buf_fem_);
+  to_dem_.scatter(dem_, buf_dem_);
+  to_fem_.scatter(fem_, buf_fem_);
 }
 
 void Coupler::probe_fem(std::size_t dof, std::string name) {
@@ -150,10 +250,7 @@ void Coupler::initialise(bool allow_unstable) {
     if (!allow_unstable) fail(ErrorKind::Input, "{}", stab_.text());
     log::warn("{}\nrunning anyway as asked", stab_.text());
   }
-  for (const Link& l : overlap_.fem_to_dem)
-    dem_.set_external(l.to, fem_.displacement(l.from), fem_.velocity(l.from));
-  for (const Link& l : overlap_.dem_to_fem)
-    fem_.set_external(l.to, dem_.displacement(l.from), dem_.velocity(l.from));
+  exchange();
   fem_.initialise();
   dem_.initialise();
   record_fem();
@@ -165,12 +262,7 @@ void Coupler::run(std::int64_t system_steps) {
   STRATA_CHECK(initialised_, Input, "Coupler::run before initialise");
   if (mode_ == Execution::Serial) {
     for (std::int64_t s = 0; s < system_steps; ++s) {
-      // Jacobi exchange: each side reads the other's boundary at t_n (set_external only
-      // touches external DOFs, so the order of the two loops does not matter)
-      for (const Link& l : overlap_.fem_to_dem)
-        dem_.set_external(l.to, fem_.displacement(l.from), fem_.velocity(l.from));
-      for (const Link& l : overlap_.dem_to_fem)
-        fem_.set_external(l.to, dem_.displacement(l.from), dem_.velocity(l.from));
+      exchange();
       fem_.step();
       record_fem();
       for (int k = 0; k < eta_; ++k) {
@@ -181,30 +273,24 @@ void Coupler::run(std::int64_t system_steps) {
     }
     return;
   }
-  // Parallel: the DEM partition on a second thread, the FEM one on this thread. Each writes
-  // its boundary state into its mailbox for step s (double-buffered by s parity), both meet
-  // at one barrier, then each reads the other's mailbox. A thread cannot overwrite a mailbox
-  // the other is still reading: to write box s+2 it must pass barrier s+1, which the other
-  // reaches only after it has read box s.
-  const std::size_t nf = overlap_.fem_to_dem.size(), nd = overlap_.dem_to_fem.size();
-  std::vector<double> fem_box[2] = {std::vector<double>(2 * nf), std::vector<double>(2 * nf)};
-  std::vector<double> dem_box[2] = {std::vector<double>(2 * nd), std::vector<double>(2 * nd)};
+  // Parallel: the DEM partition on a second thread, the FEM one on this thread. Each gathers
+  // the values it sends (its boundary values, weighted as in the serial exchange) into its
+  // mailbox for step s (double-buffered by s parity), both meet at one barrier, then each
+  // prescribes the other's mailbox. A thread cannot overwrite a mailbox the other is still
+  // reading: to write box s+2 it must pass barrier s+1, which the other reaches only after it
+  // has read box s.
+  std::vector<double> to_dem_box[2] = {buf_dem_, buf_dem_};
+  std::vector<double> to_fem_box[2] = {buf_fem_, buf_fem_};
   std::barrier sync(2);
   std::atomic<bool> abort{false};
   std::exception_ptr err[2];
   auto fem_loop = [&] {
     try {
       for (std::int64_t s = 0; s < system_steps; ++s) {
-        std::vector<double>& out = fem_box[s & 1];
-        for (std::size_t k = 0; k < nf; ++k) {
-          out[2 * k] = fem_.displacement(overlap_.fem_to_dem[k].from);
-          out[2 * k + 1] = fem_.velocity(overlap_.fem_to_dem[k].from);
-        }
+        to_dem_.gather(fem_, to_dem_box[s & 1]);
         sync.arrive_and_wait();
         if (abort.load()) return;
-        const std::vector<double>& in = dem_box[s & 1];
-        for (std::size_t k = 0; k < nd; ++k)
-          fem_.set_external(overlap_.dem_to_fem[k].to, in[2 * k], in[2 * k + 1]);
+        to_fem_.scatter(fem_, to_fem_box[s & 1]);
         fem_.step();
         record_fem();
       }
@@ -221,16 +307,10 @@ void Coupler::run(std::int64_t system_steps) {
     par::set_threads(loop_threads);
     try {
       for (std::int64_t s = 0; s < system_steps; ++s) {
-        std::vector<double>& out = dem_box[s & 1];
-        for (std::size_t k = 0; k < nd; ++k) {
-          out[2 * k] = dem_.displacement(overlap_.dem_to_fem[k].from);
-          out[2 * k + 1] = dem_.velocity(overlap_.dem_to_fem[k].from);
-        }
+        to_fem_.gather(dem_, to_fem_box[s & 1]);
         sync.arrive_and_wait();
         if (abort.load()) return;
-        const std::vector<double>& in = fem_box[s & 1];
-        for (std::size_t k = 0; k < nf; ++k)
-          dem_.set_external(overlap_.fem_to_dem[k].to, in[2 * k], in[2 * k + 1]);
+        to_dem_.scatter(dem_, to_dem_box[s & 1]);
         for (int k = 0; k < eta_; ++k) {
           dem_.step();
           record_dem();

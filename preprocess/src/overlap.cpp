@@ -1,4 +1,4 @@
-// Overlap layers between a particle region and an FEM region (see overlap.hpp, SPEC C3).
+// Overlap layers between a particle box and FEM boxes: the box path (see overlap.hpp).
 #include "strata/preprocess/overlap.hpp"
 
 #include <strata/core/error.hpp>
@@ -73,7 +73,39 @@ std::array<std::uint64_t, 3> bits(const Vec3& p) {
   return b;
 }
 
+/// The coincidence pairs as single-source copies of weight 1, and the particles' regions
+/// (0 on the particle side, -1 for layer 1, which lies in an FEM box).
+void add_copy_links(OverlapModel& m) {
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> to_dem, to_fem;  // (target, source)
+  for (std::size_t k = 0; k < m.pair_particle.size(); ++k) {
+    const std::uint32_t i = m.pair_particle[k], n = m.pair_node[k];
+    if (m.particle_tag[i] == OverlapTag::External)
+      to_dem.emplace_back(i, n);
+    else
+      to_fem.emplace_back(n, i);
+  }
+  std::sort(to_dem.begin(), to_dem.end());
+  std::sort(to_fem.begin(), to_fem.end());
+  for (const auto& [t, f] : to_dem) m.fem_to_dem.add(t, {f}, {1.0});
+  for (const auto& [t, f] : to_fem) m.dem_to_fem.add(t, {f}, {1.0});
+  m.particle_region.resize(m.particles.size());
+  for (std::size_t i = 0; i < m.particles.size(); ++i)
+    m.particle_region[i] = m.particle_tag[i] == OverlapTag::External ? -1 : 0;
+  m.particle_region_names = {"particles"};
+}
+
 }  // namespace
+
+void OverlapLinks::add(std::uint32_t to, const std::vector<std::uint32_t>& from,
+                       const std::vector<double>& w) {
+  STRATA_CHECK(from.size() == w.size() && !from.empty(), Internal,
+               "overlap links: target {} has {} sources and {} weights", to, from.size(), w.size());
+  if (first.empty()) first.push_back(0);
+  target.push_back(to);
+  source.insert(source.end(), from.begin(), from.end());
+  weight.insert(weight.end(), w.begin(), w.end());
+  first.push_back(static_cast<std::uint32_t>(source.size()));
+}
 
 OverlapModel build_overlap(const Shape& pb, const Shape& fb, const OverlapOptions& opt) {
   return build_overlap(pb, std::vector<Shape>{fb}, opt);
@@ -212,7 +244,7 @@ OverlapModel build_overlap(const Shape& pb, const std::vector<Shape>& fem_boxes,
   const Lattice sites = fill_mesh(fill_box, frame, BoundaryFilter{&dist, r});
 
   // Tags by depth from each Γ: layer 0 (on a Γ) boundary, layer 1 (one spacing into that
-  // Γ's FEM box) external, every other site (behind all Γ) internal (SPEC C3).
+  // Γ's FEM box) external, every other site (behind all Γ) internal.
   const double ltol = 1e-9 * d;
   std::vector<int> cls(sites.size(), -1), site_gamma(sites.size(), -1);
   for (std::size_t i = 0; i < sites.size(); ++i) {
@@ -414,6 +446,7 @@ OverlapModel build_overlap(const Shape& pb, const std::vector<Shape>& fem_boxes,
     m.pair_node.push_back(node_of[i]);
     m.pair_interface.push_back(static_cast<std::uint8_t>(gamma_of[i]));
   }
+  add_copy_links(m);
   return m;
 }
 
@@ -447,6 +480,7 @@ OverlapModel build_overlap(const std::filesystem::path& file, const std::string&
   for (const auto& name : fem_regions) fem_boxes.push_back(as_box(name));
   OverlapModel m = build_overlap(as_box(particle_region), fem_boxes, opt);
   m.fem.group_names = fem_regions;
+  m.particle_region_names = {particle_region};
   return m;
 }
 

@@ -22,10 +22,14 @@ struct Cadence {
   std::int64_t frame_breaks = 0;  // Breaks
   std::int64_t checkpoint_every = 0;
 
-  Cadence(const Table& o, std::int64_t total_steps, double time_step) : steps(total_steps), dt(time_step) {
-    probe_every =
-        o.integer("probe_every") > 0 ? o.integer("probe_every") : std::max<std::int64_t>(1, steps / 1000);
-    checkpoint_every = o.integer("checkpoint_every");
+  /// Steps are counted in units of `quantum` steps of the scene's dt (a coupled model's
+  /// system steps); the [output] step counts are rounded up to whole units.
+  Cadence(const Table& o, std::int64_t total_steps, double time_step, std::int64_t quantum = 1)
+      : steps(total_steps), dt(time_step) {
+    auto units = [quantum](std::int64_t n) { return (n + quantum - 1) / quantum; };
+    probe_every = o.integer("probe_every") > 0 ? units(o.integer("probe_every"))
+                                               : std::max<std::int64_t>(1, steps / 1000);
+    checkpoint_every = units(o.integer("checkpoint_every"));
     if (o.integer("frame_every_breaks") > 0) {
       frames = Frames::Breaks;
       frame_breaks = o.integer("frame_every_breaks");

@@ -104,14 +104,15 @@ std::unique_ptr<io::CheckpointReader> open_checkpoint(const fs::path& file, cons
 fs::path write_checkpoint(const fs::path& dir, const BuiltModel& m, const std::string& fingerprint,
                           const RunOutput& out, std::int64_t frame_breaks, double wall_seconds) {
   const fs::path file = dir / "checkpoint.h5";
-  io::CheckpointWriter w(
-      file, {STRATA_VERSION, fingerprint, m.dim, m.sim.particle_count(), m.sim.step_count(), m.sim.time()});
-  m.sim.save_state(w);
+  const std::size_t particles = m.has_particles() ? m.sim().particle_count() : 0;
+  io::CheckpointWriter w(file, {STRATA_VERSION, fingerprint, m.dim, particles, m.step_count(), m.time()});
+  if (m.has_particles()) m.sim().save_state(w);
+  if (m.has_fem()) m.fem().save_state(w);
   out.save(w);
   w.put_scalar<std::int64_t>("driver/frame_breaks", frame_breaks);
   w.put_scalar<double>("driver/wall_seconds", wall_seconds);
   w.commit();
-  log::debug("checkpoint at step {} written to {}", m.sim.step_count(), file.string());
+  log::debug("checkpoint at step {} written to {}", m.step_count(), file.string());
   return file;
 }
 

@@ -236,7 +236,11 @@ std::string unit_suffix(const KeySpec& k) { return k.unit.empty() ? "" : " (" + 
 /// What a key is, for "(...)" in messages: the doc's first sentence without "; required when ..."
 /// (the message says that) and with "The" lower-cased ("the material name").
 std::string first_sentence(const std::string& doc) {
-  std::string s = doc.substr(0, std::min(doc.find(". "), doc.find("; required")));
+  // The first ". " that ends a sentence (not the one of an "et al." citation).
+  std::size_t end = doc.find(". ");
+  while (end != std::string::npos && end >= 5 && doc.compare(end - 5, 5, "et al") == 0)
+    end = doc.find(". ", end + 2);
+  std::string s = doc.substr(0, std::min(end, doc.find("; required")));
   if (!s.empty() && s.back() == '.') s.pop_back();
   // Lower-case a plain first word ("The", "Velocity,") but not a symbol ("Kn:", "Fs0:").
   std::size_t n = 0;
@@ -1128,6 +1132,15 @@ class Loader {
     groups.insert(groups.end(), regions.begin(), regions.end());
     const std::string group_what = "[[group]] or [[region]]";
 
+    for (const Table& m : scene.tables("material"))
+      if (m.given("youngs_modulus") != m.given("poisson_ratio")) {
+        const std::string given = m.given("youngs_modulus") ? "youngs_modulus" : "poisson_ratio";
+        const std::string other = given == "youngs_modulus" ? "poisson_ratio" : "youngs_modulus";
+        report(m.where(given),
+               fmt::format("material '{}' gives {} without {}: the continuum of an FEM region "
+                           "needs both (or neither, for the lattice's own)",
+                           m.str("name"), given, other));
+      }
     const TableSpec& region_spec = *find_table("region");
     for (const Table& r : scene.tables("region")) {
       check_reference(r, "material", "[[material]]", materials);

@@ -1,36 +1,26 @@
 #include <strata/scene/model.hpp>
 
+#include "model_parts.hpp"
+
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/preprocess/ecc.hpp>
 #include <strata/preprocess/fill.hpp>
 #include <strata/preprocess/geometry.hpp>
 #include <strata/preprocess/mesh_fill.hpp>
+#include <strata/preprocess/overlap.hpp>
 
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <set>
 
 namespace strata::scene {
 namespace {
 
 using preprocess::Lattice;
 using preprocess::Shape;
-
-int axis_index(const std::string& a) { return a == "x" ? 0 : a == "y" ? 1 : 2; }
-
-unsigned axes_mask(const std::vector<std::string>& axes, int dim) {
-  unsigned m = 0;
-  for (const auto& a : axes) m |= 1u << axis_index(a);
-  return m & (dim == 2 ? dem::kXY : dem::kXYZ);
-}
-
-std::array<double, 3> vec3(const std::vector<double>& v) {
-  std::array<double, 3> out{0, 0, 0};
-  for (std::size_t a = 0; a < v.size() && a < 3; ++a) out[a] = v[a];
-  return out;
-}
 
 Shape shape_of(const scene::Table& r, int dim) {
   Shape s;
@@ -96,6 +86,85 @@ Filled fill_file_region(const scene::Table& r, int dim, preprocess::LatticeKind 
   }
   f.fill = preprocess::fill_region(*f.region, fo);
   return f;
+}
+
+/// A particle region of a coupled model: its sites as the overlap made them (those of
+/// particle_region k, in order), and the geometry region for group selections.
+Filled coupled_region(const Table& r, const preprocess::OverlapModel& ov, int dim,
+                      std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
+  const auto& names = ov.particle_region_names;
+  const auto k = std::find(names.begin(), names.end(), r.str("physical")) - names.begin();
+  Filled f;
+  Lattice& l = f.shape_lattice;
+  l.dim = ov.particles.dim;
+  l.radius = ov.particles.radius;
+  const bool rows = !ov.particles.row.empty();
+  for (std::size_t i = 0; i < ov.particles.size(); ++i) {
+    if (ov.particle_region[i] != k) continue;
+    l.x.push_back(ov.particles.x[i]);
+    if (rows) {
+      l.row.push_back(ov.particles.row[i]);
+      l.layer.push_back(ov.particles.layer[i]);
+    }
+  }
+  const std::string file = r.str("file");
+  auto& geo = cache[file];
+  if (!geo) {
+    preprocess::GeometryOptions go;
+    go.dim = dim;
+    geo = std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go));
+  }
+  f.geometry = geo;
+  f.region = geo->region(r.str("physical"));
+  return f;
+}
+
+/// The overlap band of a coupled model (the DEM external particles, inside the FEM regions):
+/// a region and group of its own, "overlap", of the first particle region's material and
+/// lattice.
+void add_overlap_band(const Scene& sc, const preprocess::OverlapModel& ov, ModelDescription& d,
+                      std::vector<Filled>& filled, std::uint32_t& next_id) {
+  Filled f;
+  Lattice& l = f.shape_lattice;
+  l.dim = ov.particles.dim;
+  l.radius = ov.particles.radius;
+  for (std::size_t i = 0; i < ov.particles.size(); ++i)
+    if (ov.particle_region[i] < 0) l.x.push_back(ov.particles.x[i]);
+  const Table* first = nullptr;
+  for (const auto& r : sc.tables("region"))
+    if (r.str("kind") == "particles" && !first) first = &r;
+  RegionInfo info;
+  info.name = "overlap";
+  info.lattice = d.regions.front().lattice;
+  info.diameter = d.regions.front().diameter;
+  info.particles = l.size();
+  RegionSites s;
+  s.first_id = next_id;
+  s.material = first->str("material");
+  f.first_id = next_id;
+  next_id += std::uint32_t(l.size());
+  d.groups.push_back({info.name, info.particles, {}, int(d.regions.size())});
+  d.regions.push_back(info);
+  d.sites.push_back(std::move(s));
+  filled.push_back(std::move(f));
+  // Overlap particle index -> particle id: regions in scene order, then the band.
+  std::vector<std::size_t> seen(ov.particle_region_names.size() + 1, 0);
+  d.overlap_particle_id.resize(ov.particles.size());
+  std::vector<std::uint32_t> region_first(ov.particle_region_names.size());
+  for (std::size_t k = 0; k + 1 < d.regions.size(); ++k) {
+    const auto& names = ov.particle_region_names;
+    for (const auto& r : sc.tables("region"))
+      if (r.str("name") == d.regions[k].name) {
+        const auto j = std::size_t(std::find(names.begin(), names.end(), r.str("physical")) - names.begin());
+        region_first[j] = d.sites[k].first_id;
+      }
+  }
+  for (std::size_t i = 0; i < ov.particles.size(); ++i) {
+    const std::int32_t k = ov.particle_region[i];
+    const std::size_t slot = k < 0 ? seen.size() - 1 : std::size_t(k);
+    const std::uint32_t base = k < 0 ? d.sites.back().first_id : region_first[std::size_t(k)];
+    d.overlap_particle_id[i] = base + std::uint32_t(seen[slot]++);
+  }
 }
 
 std::vector<std::uint32_t> select(const scene::Table& g, const Filled& f) {
@@ -167,7 +236,8 @@ std::vector<const Lattice*> ModelDescription::lattices() const {
   return out;
 }
 
-ModelDescription describe_model(const scene::Scene& sc, bool allow_fem) {
+ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
+                                const preprocess::OverlapModel* coupled) {
   const auto t0 = std::chrono::steady_clock::now();
   const scene::Table& st = sc.table("scene");
   const int dim = int(st.integer("dimension"));
@@ -188,7 +258,8 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem) {
                                    "regions for inspection, and coupled FEM-DEM runs go through a [coupled] "
                                    "scene or 'strata report wave'",
                                    r.str("name")));
-      d.fem.push_back(FemRegion{r.str("name"), r.str("material"), mesh_fem(r, dim)});
+      // A coupled model's FEM mesh is the overlap's (FEM regions and the overlap ring).
+      if (!coupled) d.fem.push_back(FemRegion{r.str("name"), r.str("material"), mesh_fem(r, dim)});
       continue;
     }
     RegionInfo info;
@@ -197,7 +268,11 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem) {
     const auto kind = lattice_of(r, dim, info.lattice);
     info.diameter = r.real("diameter");
     Filled f;
-    if (r.str("shape") == "file") {
+    if (coupled) {
+      // The coupled model's particles of this region, in the order the overlap made them.
+      f = coupled_region(r, *coupled, dim, geometries);
+      info.measure = f.region->mesh.measure();
+    } else if (r.str("shape") == "file") {
       f = fill_file_region(r, dim, kind, info.diameter, geometries);
       info.measure = f.fill->measure;
     } else {
@@ -214,7 +289,7 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem) {
     s.first_id = f.first_id;
     s.material = r.str("material");
     // Bonds: the touching pairs of the regular lattice, region by region when any region is
-    // eccentric (ECC4D, SPEC C4: centroids offset, bonds kept, long ones weakened by γ);
+    // eccentric (ECC4D of Zhao et al. 2021: centroids offset, bonds kept, long ones weakened by γ);
     // otherwise all touching pairs of the model (bonds_across_regions).
     const std::string& ecc_type = r.str("eccentricity");
     if (ecc_type != "none") {
@@ -242,15 +317,23 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem) {
     filled.push_back(std::move(f));
   }
 
+  if (coupled) add_overlap_band(sc, *coupled, d, filled, next_id);
+
+  std::set<std::string> fem_regions;
+  for (const auto& r : sc.tables("region"))
+    if (r.str("kind") == "fem") fem_regions.insert(r.str("name"));
   for (const auto& g : sc.tables("group")) {
     std::vector<std::uint32_t> ids;
     const std::string& region = g.str("region");
+    if (fem_regions.count(region)) continue;  // FEM nodes (fem_model.cpp)
     for (const auto& [name, k] : region_index) {
       if (!region.empty() && name != region) continue;
       const Filled& f = filled[k];
       for (std::uint32_t i : select(g, f)) ids.push_back(f.first_id + i);
     }
-    if (ids.empty()) g.fail("select", fmt::format("group '{}' selects no particle", g.str("name")));
+    // A group over every region may hold FEM nodes only (fem_model.cpp checks it is not empty).
+    if (ids.empty() && fem_regions.empty())
+      g.fail("select", fmt::format("group '{}' selects no particle", g.str("name")));
     const std::size_t n = ids.size();
     d.groups.push_back({g.str("name"), n, std::move(ids), -1});
   }
@@ -307,15 +390,11 @@ std::vector<std::uint32_t> surface_particles(const ModelDescription& d) {
   return out;
 }
 
-BuiltModel build_model(const scene::Scene& sc, bool force) {
-  const auto t0 = std::chrono::steady_clock::now();
-  const scene::Table& st = sc.table("scene");
-  const scene::Table& solver = sc.table("solver");
-  const int dim = int(st.integer("dimension"));
-
+dem::Settings dem_settings(const Scene& sc, bool force) {
+  const Table& solver = sc.table("solver");
   dem::Settings set;
   set.dt = solver.real("dt");
-  // dt is checked below against the model's dt_crit, so a refusal points at the scene.
+  // dt is checked against the model's dt_crit once it is built, so a refusal points at the scene.
   set.allow_unstable = force || solver.boolean("allow_unstable");
   const std::string& damping = solver.str("damping");
   set.damping = damping == "viscous" ? dem::Settings::Damping::Viscous
@@ -333,15 +412,19 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   // Eccentric lattices: "auto" leaves the search off, since offset centroids can overlap
   // unbonded neighbours at the start (broken bonds still push back and slide).
   bool eccentric = false;
-  for (const auto& t : sc.tables("region")) eccentric |= t.str("eccentricity") != "none";
+  std::size_t particle_regions = 0;
+  for (const auto& t : sc.tables("region")) {
+    eccentric |= t.str("eccentricity") != "none";
+    particle_regions += t.str("kind") == "particles";
+  }
   const std::string& cd = solver.str("contact_detection");
-  set.contact_detection =
-      cd == "on" || (cd == "auto" && !eccentric &&
-                     (breakable || sc.tables("region").size() > 1 || !sc.tables("wall").empty()));
+  set.contact_detection = cd == "on" || (cd == "auto" && !eccentric &&
+                                         (breakable || particle_regions > 1 || !sc.tables("wall").empty()));
+  return set;
+}
 
-  BuiltModel m{dim, dem::Simulation(dim, set)};
-  dem::Simulation& sim = m.sim;
-
+void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& sim, BuiltModel& m) {
+  const int dim = m.dim;
   std::map<std::string, int> material_id;
   double max_kn = 0;
   for (const auto& t : sc.tables("material")) {
@@ -358,7 +441,6 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
   }
 
   // The particles, groups and bonds of the filled regions.
-  ModelDescription d = describe_model(sc, /*allow_fem=*/false);
   m.regions = d.regions;
   sim.reserve(d.particle_count());
   for (std::size_t k = 0; k < d.sites.size(); ++k) {
@@ -367,7 +449,8 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     for (const auto& x : d.sites[k].sites.x) sim.add_particle(x, rad, mat);
   }
   for (const auto& g : d.groups) {
-    if (g.region >= 0) {  // a region's own group: its ids [first_id, first_id + count)
+    if (g.count == 0) continue;  // a group of FEM nodes only
+    if (g.region >= 0) {         // a region's own group: its ids [first_id, first_id + count)
       const RegionSites& s = d.sites[std::size_t(g.region)];
       std::vector<std::uint32_t> ids(g.count);
       for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = s.first_id + std::uint32_t(i);
@@ -395,10 +478,10 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     }
     sim.set_bonds(bi, bj, factor);
   }
-  d = ModelDescription{};  // the simulation holds the particles now
 
   for (const auto& b : sc.tables("boundary")) {
     const std::string& group = b.str("group");
+    if (!m.groups.count(group)) continue;  // FEM nodes only (fem_model.cpp)
     const std::string& type = b.str("type");
     const unsigned axes = axes_mask(b.strings("axes"), dim);
     if (type == "fixed") {
@@ -413,6 +496,7 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     }
   }
   for (const auto& l : sc.tables("load")) {
+    if (!m.groups.count(l.str("group"))) continue;  // FEM nodes only (fem_model.cpp)
     std::vector<std::array<double, 3>> forces;
     for (const auto& row : l.real_table("forces")) forces.push_back(vec3(row));
     if (l.str("per") == "group") {
@@ -430,6 +514,61 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
     sim.add_wall(vec3(w.reals("point")), n,
                  w.has("velocity") ? vec3(w.reals("velocity")) : std::array<double, 3>{}, k);
   }
+}
+
+std::int64_t step_count_of(const Table& solver, double dt, int quantum) {
+  const std::int64_t given = solver.integer("steps");
+  std::int64_t steps = given > 0 ? given : std::int64_t(std::ceil(solver.real("duration") / dt - 1e-9));
+  return (steps + quantum - 1) / quantum * quantum;  // whole system steps
+}
+
+void setup_platens(const Scene& sc, BuiltModel& m) {
+  const Table& probe = sc.table("probe");
+  if (!probe.boolean("stress_strain")) return;
+  const int dim = m.dim;
+  const dem::Simulation& sim = m.sim();
+  // Platen probe geometry: platens' outer faces and the loaded width.
+  PlatenProbe& p = m.platens;
+  p.enabled = true;
+  p.top = probe.str("top_group");
+  p.bottom = probe.str("bottom_group");
+  p.axis = axis_index(probe.str("axis"));
+  const auto pos = sim.positions();
+  const auto rad = sim.radii();
+  std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    for (int a = 0; a < dim; ++a)
+      lo[a] = std::min(lo[a], pos[i][a] - rad[i]), hi[a] = std::max(hi[a], pos[i][a] + rad[i]);
+  p.area = 1;
+  for (int a = 0; a < dim; ++a)
+    if (a != p.axis) p.area *= hi[a] - lo[a];
+  if (dim == 2) p.area *= sc.table("scene").real("thickness");
+  p.radius = rad.empty() ? 0 : rad[0];
+  p.length0 = platen_distance(m);
+}
+
+BuiltModel build_model(const Scene& sc, bool force) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Table& solver = sc.table("solver");
+  const int dim = int(sc.table("scene").integer("dimension"));
+  bool any_fem = false;
+  for (const auto& r : sc.tables("region")) any_fem |= r.str("kind") == "fem";
+  if (any_fem) {
+    BuiltModel m = build_fem_model(sc, force);  // fem_model.cpp: FEM alone or coupled
+    if (m.has_particles()) setup_platens(sc, m);
+    m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return m;
+  }
+
+  const dem::Settings set = dem_settings(sc, force);
+  BuiltModel m;
+  m.dim = dim;
+  m.dem_ = std::make_unique<dem::Simulation>(dim, set);
+  dem::Simulation& sim = *m.dem_;
+  {
+    ModelDescription d = describe_model(sc, /*allow_fem=*/false);
+    populate_particles(sc, d, sim, m);
+  }  // the simulation holds the particles now
 
   // Time step: automatic (dt_safety × dt_crit) or checked against dt_crit. The model is
   // initialised with a tiny step, then given the real one.
@@ -446,30 +585,8 @@ BuiltModel build_model(const scene::Scene& sc, bool force) {
                             dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
   sim.set_dt(dt);  // warns when above dt_crit and allowed
   m.dt = sim.dt();
-  const std::int64_t steps = solver.integer("steps");
-  m.steps = steps > 0 ? steps : std::int64_t(std::ceil(solver.real("duration") / m.dt - 1e-9));
-
-  // Platen probe geometry (SPEC C1): platens' outer faces and the loaded width.
-  const scene::Table& probe = sc.table("probe");
-  if (probe.boolean("stress_strain")) {
-    PlatenProbe& p = m.platens;
-    p.enabled = true;
-    p.top = probe.str("top_group");
-    p.bottom = probe.str("bottom_group");
-    p.axis = axis_index(probe.str("axis"));
-    const auto pos = sim.positions();
-    const auto rad = sim.radii();
-    std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (std::size_t i = 0; i < pos.size(); ++i)
-      for (int a = 0; a < dim; ++a)
-        lo[a] = std::min(lo[a], pos[i][a] - rad[i]), hi[a] = std::max(hi[a], pos[i][a] + rad[i]);
-    p.area = 1;
-    for (int a = 0; a < dim; ++a)
-      if (a != p.axis) p.area *= hi[a] - lo[a];
-    if (dim == 2) p.area *= st.real("thickness");
-    p.radius = rad.empty() ? 0 : rad[0];
-    p.length0 = platen_distance(m);
-  }
+  m.steps = step_count_of(solver, m.dt, 1);
+  setup_platens(sc, m);
   m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return m;
 }
@@ -478,14 +595,14 @@ namespace {
 /// Distance between the outer faces of the two platen groups along the probe axis.
 double platen_distance(const BuiltModel& m) {
   const PlatenProbe& p = m.platens;
-  const auto pos = m.sim.positions();
-  const auto ids = m.sim.ids();
+  const auto pos = m.sim().positions();
+  const auto ids = m.sim().ids();
   // ids() maps internal index -> id; build the inverse once per call (cheap next to a run).
   std::vector<std::uint32_t> where(ids.size());
   for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = std::uint32_t(i);
   auto mean = [&](const std::string& g) {
     double sum = 0;
-    const auto members = m.sim.group_members(g);
+    const auto members = m.sim().group_members(g);
     for (auto id : members) sum += pos[where[id]][p.axis];
     return sum / double(members.size());
   };
@@ -498,8 +615,8 @@ AxialState axial_state(const BuiltModel& m) {
   AxialState s;
   if (!p.enabled) return s;
   s.strain = (p.length0 - platen_distance(m)) / p.length0;
-  s.force_top = m.sim.group_force(p.top)[p.axis];
-  s.force_bottom = m.sim.group_force(p.bottom)[p.axis];
+  s.force_top = m.sim().group_force(p.top)[p.axis];
+  s.force_bottom = m.sim().group_force(p.bottom)[p.axis];
   // Internal forces push the top platen up (+) and the bottom one down (-) in compression.
   s.stress = 0.5 * (s.force_top - s.force_bottom) / p.area;
   return s;

@@ -61,11 +61,12 @@ json description_json(const ModelDescription& d, const Scene& sc, std::size_t bo
 
 json model_json(const BuiltModel& m, const Scene& sc) {
   json j = model_counts_json(sc, m.dim, m.regions, m.groups);
-  j.update({{"particles", m.sim.particle_count()},
-            {"bonds", m.sim.bond_count()},
-            {"fem_nodes", 0},
+  const bool p = m.has_particles();
+  j.update({{"particles", p ? m.sim().particle_count() : 0},
+            {"bonds", p ? m.sim().bond_count() : 0},
+            {"fem_nodes", m.has_fem() ? m.fem().mesh().nodes() : 0},
             {"fem_elements", 0},
-            {"memory_bytes", m.sim.memory_bytes()},
+            {"memory_bytes", p ? m.sim().memory_bytes() : 0},
             {"dt_s", m.dt},
             {"dt_automatic", m.dt_automatic},
             {"dt_crit_s", m.dt_crit},
@@ -73,6 +74,33 @@ json model_json(const BuiltModel& m, const Scene& sc) {
             {"steps", m.steps},
             {"simulated_time_s", double(m.steps) * m.dt},
             {"threads", par::threads()}});
+  if (m.has_fem()) {
+    std::size_t elements = 0;
+    json fem = json::array();
+    for (const auto& r : m.fem_regions) {
+      elements += r.elements;
+      fem.push_back({{"name", r.name},
+                     {"elements", r.elements},
+                     {"youngs_modulus_pa", r.youngs_modulus},
+                     {"poisson_ratio", r.poisson_ratio},
+                     {"density_kg_m3", r.density}});
+    }
+    json groups = json::object();
+    for (const auto& [name, nodes] : m.fem_groups) groups[name] = nodes.size();
+    j["fem_elements"] = elements;
+    j["fem_regions"] = fem;
+    j["fem_groups"] = groups;
+    j["fem_integrator"] = m.fem_integrator();
+    j["fem_dt_s"] = m.dt * double(m.coupled() ? m.eta : 1);
+    j["fem_dt_crit_s"] = std::isfinite(m.fem_dt_crit) ? json(m.fem_dt_crit) : json("unconditional");
+    j["fem_explicit_dt_crit_s"] = m.fem_explicit_dt_crit;
+  }
+  if (m.coupled()) {
+    j["eta"] = m.eta;
+    j["coupling"] = m.execution();
+    j["overlap_external_particles"] = m.overlap_particles;
+    j["overlap_external_nodes"] = m.overlap_nodes;
+  }
   return j;
 }
 
@@ -262,7 +290,7 @@ json mesh_report(const Scene& sc, const fs::path& output) {
   j["seconds"] = seconds;
   j["particles_per_s"] = seconds > 0 ? double(d.particle_count()) / seconds : 0.0;
   // Bond counts by length class (length / d, classes 0.02 wide): one class for a regular
-  // lattice, a spread for an eccentric one (SPEC C4).
+  // lattice, a spread for an eccentric one (ECC4D, Zhao et al. 2021).
   if (bonds.pairs > 0) j["bond_length_classes"] = bond_length_classes(bonds);
   if (!output.empty()) {
     // Particles: all of them up to kMaxWrittenParticles, else the surface (or none).

@@ -53,8 +53,8 @@ struct Run::Impl {
     fingerprint = scene_fingerprint(sc);
     if (!opt.restart.empty()) {
       ckpt = open_checkpoint(opt.restart, fingerprint, sc);
-      m.sim.load_state(*ckpt);
-      m.dt = m.sim.dt();
+      if (m.has_particles()) m.sim().load_state(*ckpt);
+      if (m.has_fem()) m.fem().load_state(*ckpt);
     }
     selection = RunOutput::selection(m, o);
     model = model_json(m, sc);
@@ -80,33 +80,35 @@ RunResult Run::Impl::execute(RunObserver& observer) {
 
   RunResult result;
   result.directory = dir;
-  const std::int64_t steps = m.steps;
-  const std::int64_t first = m.sim.step_count();  // 0, or the checkpoint's step
-  const Cadence cad(o, steps, m.dt);
+  // The loop counts in units of q steps of dt: whole system steps of a coupled model.
+  const std::int64_t q = m.coupled() ? m.eta : 1;
+  const std::int64_t steps = m.steps / q;
+  const std::int64_t first = m.step_count() / q;  // 0, or the checkpoint's step
+  const Cadence cad(o, steps, m.dt * double(q), q);
+  auto broken = [&] { return m.has_particles() ? m.sim().broken_count() : std::size_t(0); };
   std::int64_t frame_breaks = 0;  // broken bonds at the last frame (output.frame_every_breaks)
   double wall_before = 0;         // run time before the restart
   if (ckpt) {
     frame_breaks = ckpt->get_scalar<std::int64_t>("driver/frame_breaks");
     wall_before = ckpt->get_scalar<double>("driver/wall_seconds");
-    observer.restarted(first, m.sim.time(), opt.restart);
+    observer.restarted(first * q, m.time(), opt.restart);
     ckpt.reset();
     if (first >= steps)
       log::warn("the checkpoint is at step {}, solver.steps = {}: nothing left to run (raise solver.steps)",
                 first, steps);
   }
 
-  observer.started(first, steps, dir);
+  observer.started(first * q, steps * q, dir);
   const auto t0 = std::chrono::steady_clock::now();
   auto wall = [&] { return wall_before + seconds_since(t0); };
   auto finish_result = [&] {
-    result.first_step = first;
-    result.step = m.sim.step_count();
-    result.time = m.sim.time();
+    result.first_step = first * q;
+    result.step = m.step_count();
+    result.time = m.time();
     result.wall_seconds = seconds_since(t0);
+    const double n = m.has_particles() ? double(m.sim().particle_count()) : 0.0;
     result.particle_steps_per_s =
-        result.wall_seconds > 0
-            ? double(m.sim.particle_count()) * double(result.step - first) / result.wall_seconds
-            : 0.0;
+        result.wall_seconds > 0 ? n * double(result.step - result.first_step) / result.wall_seconds : 0.0;
     result.last_frame = out.last_frame();
     result.written = out.written();
     return result;
@@ -114,26 +116,26 @@ RunResult Run::Impl::execute(RunObserver& observer) {
   std::int64_t max_chunk = 4;  // steps per run() call, adapted to ~0.25 s so signals are seen soon
   try {
     for (;;) {
-      const std::int64_t s = m.sim.step_count();
+      const std::int64_t s = m.step_count() / q;
       // outputs of step s (a restart's first step had them before its checkpoint was taken)
       if (!(first > 0 && s == first)) {
         if (cad.probe_due(s)) out.probe(m);
-        if (cad.frame_due(s, m.sim.broken_count(), std::size_t(frame_breaks))) {
+        if (cad.frame_due(s, broken(), std::size_t(frame_breaks))) {
           out.frame(m);
-          frame_breaks = std::int64_t(m.sim.broken_count());
+          frame_breaks = std::int64_t(broken());
         }
       }
       if (s >= steps) break;
       if (const int reason = observer.stop_requested()) {
         // Interrupted: the current frame, a checkpoint, what is known so far; then stop.
-        if (out.last_frame_step() != s) {
+        if (out.last_frame_step() != s * q) {
           out.frame(m);
-          frame_breaks = std::int64_t(m.sim.broken_count());
+          frame_breaks = std::int64_t(broken());
         }
         fs::path ck;
         if (STRATA_WITH_HDF5) ck = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
         out.finish(m, model, seconds_since(t0),
-                   fmt::format("interrupted by {} at step {}", stop_name(reason), s));
+                   fmt::format("interrupted by {} at step {}", stop_name(reason), s * q));
         result.status = RunStatus::Interrupted;
         result.stop_reason = reason;
         result.checkpoint = ck;
@@ -144,17 +146,17 @@ RunResult Run::Impl::execute(RunObserver& observer) {
       const std::int64_t to =
           std::min({cad.next_probe(s), cad.next_frame(s), cad.next_checkpoint(s), steps, s + max_chunk});
       const auto c0 = std::chrono::steady_clock::now();
-      m.sim.run(to - s);
+      m.advance((to - s) * q);
       const double took = seconds_since(c0);
       if (to - s == max_chunk || took > 0.25)
         max_chunk = std::clamp<std::int64_t>(
             took > 0 ? std::int64_t(double(to - s) * 0.25 / took) : 2 * max_chunk, 1, 1 << 20);
-      observer.progress(m.sim.step_count(), steps);
+      observer.progress(m.step_count(), steps * q);
     }
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Numerical) throw;
     // Frames after the last passed health check may already hold the blow-up: drop them.
-    const std::int64_t good = m.sim.last_good_step();
+    const std::int64_t good = m.last_good_step();
     const fs::path last = out.keep_frames_until((double(good) + 0.5) * m.dt);
     out.finish(m, model, seconds_since(t0), fmt::format("failed: {}", e.what()));
     const std::string kept = last.empty() ? std::string("no good frame had been written")

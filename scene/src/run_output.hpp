@@ -33,24 +33,44 @@ class RunOutput {
         out_(sc.table("output")),
         fields_(out_.strings("fields")),
         title_(sc.table("scene").str("title")),
-        particles_(dir, "particles", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh),
-        bonds_(dir, "bonds", resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh) {
+        particles_on_(m.has_particles()),
+        fem_on_(m.has_fem()) {
+    const auto mode = resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh;
+    if (particles_on_) {
+      particles_.emplace(dir, "particles", mode);
+      bonds_.emplace(dir, "bonds", mode);
+    }
+    if (fem_on_) fem_.emplace(dir, "fem", mode);
     std::vector<std::string> cols{"step", "time"};
     if (m.platens.enabled) cols.insert(cols.end(), {"strain", "stress", "force_top", "force_bottom"});
-    cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
-                             "broken_tension", "broken_shear", "contacts"});
+    if (particles_on_)
+      cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
+                               "broken_tension", "broken_shear", "contacts"});
+    if (fem_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
+    for (const auto& g : sc.table("probe").strings("gauges")) {
+      if (!m.groups.count(g) && !m.fem_groups.count(g))
+        sc.table("probe").fail("gauges", fmt::format("no [[group]] or [[region]] is called '{}'", g));
+      gauges_.push_back(g);
+      for (int a = 0; a < m.dim; ++a) cols.push_back(fmt::format("{}_u{}", g, "xyz"[a]));
+    }
     if (!resume) {
       probes_.emplace(dir / "probes.csv", cols);
       return;
     }
-    first_step_ = m.sim.step_count();
-    particles_.truncate_after(m.sim.time());
-    bonds_.truncate_after(m.sim.time());
-    probes_.emplace(io::CsvWriter::append(dir / "probes.csv", cols, double(m.sim.step_count())));
+    first_step_ = m.step_count();
+    for (auto* series : {&particles_, &bonds_, &fem_})
+      if (*series) (*series)->truncate_after(m.time());
+    probes_.emplace(io::CsvWriter::append(dir / "probes.csv", cols, double(m.step_count())));
     time_ = resume->get<double>("driver/probes/time");
-    kinetic_ = resume->get<double>("driver/probes/kinetic_energy", time_.size());
-    bond_ = resume->get<double>("driver/probes/bond_energy", time_.size());
-    work_ = resume->get<double>("driver/probes/external_work", time_.size());
+    if (particles_on_) {
+      kinetic_ = resume->get<double>("driver/probes/kinetic_energy", time_.size());
+      bond_ = resume->get<double>("driver/probes/bond_energy", time_.size());
+      work_ = resume->get<double>("driver/probes/external_work", time_.size());
+    }
+    if (fem_on_) {
+      fem_kinetic_ = resume->get<double>("driver/probes/fem_kinetic_energy", time_.size());
+      fem_strain_ = resume->get<double>("driver/probes/fem_strain_energy", time_.size());
+    }
     strain_ = resume->get<double>("driver/probes/strain");
     stress_ = resume->get<double>("driver/probes/stress", strain_.size());
     probe_steps_ = resume->get<std::int64_t>("driver/probes/step", strain_.size());
@@ -59,9 +79,15 @@ class RunOutput {
   /// The probe series kept for the summary and the plots (part of a checkpoint).
   void save(StateWriter& w) const {
     w.put("driver/probes/time", time_);
-    w.put("driver/probes/kinetic_energy", kinetic_);
-    w.put("driver/probes/bond_energy", bond_);
-    w.put("driver/probes/external_work", work_);
+    if (particles_on_) {
+      w.put("driver/probes/kinetic_energy", kinetic_);
+      w.put("driver/probes/bond_energy", bond_);
+      w.put("driver/probes/external_work", work_);
+    }
+    if (fem_on_) {
+      w.put("driver/probes/fem_kinetic_energy", fem_kinetic_);
+      w.put("driver/probes/fem_strain_energy", fem_strain_);
+    }
     w.put("driver/probes/strain", strain_);
     w.put("driver/probes/stress", stress_);
     w.put("driver/probes/step", probe_steps_);
@@ -103,44 +129,96 @@ class RunOutput {
   std::int64_t last_frame_step() const { return last_frame_step_; }
   /// The last frame listed in the series, or an empty path.
   fs::path last_frame() const {
-    return particles_.frames().empty() ? fs::path() : dir_ / particles_.frames().back().file;
+    const auto& series = particles_on_ ? particles_ : fem_;
+    return series->frames().empty() ? fs::path() : dir_ / series->frames().back().file;
   }
 
   void probe(const BuiltModel& m) {
-    const auto& s = m.sim;
-    std::vector<double> row{double(s.step_count()), s.time()};
+    std::vector<double> row{double(m.step_count()), m.time()};
     if (m.platens.enabled) {
       const AxialState a = axial_state(m);
       row.insert(row.end(), {a.strain, a.stress, a.force_top, a.force_bottom});
       strain_.push_back(a.strain);
       stress_.push_back(a.stress);
-      probe_steps_.push_back(s.step_count());
+      probe_steps_.push_back(m.step_count());
     }
-    row.insert(row.end(), {s.kinetic_energy(), s.bond_energy(), s.external_work(), s.damping_dissipation(),
-                           double(s.broken_count(dem::BreakMode::Tension)),
-                           double(s.broken_count(dem::BreakMode::Shear)), double(s.contact_count())});
-    time_.push_back(s.time());
-    kinetic_.push_back(s.kinetic_energy());
-    bond_.push_back(s.bond_energy());
-    work_.push_back(s.external_work());
+    time_.push_back(m.time());
+    if (particles_on_) {
+      const auto& s = m.sim();
+      row.insert(row.end(), {s.kinetic_energy(), s.bond_energy(), s.external_work(), s.damping_dissipation(),
+                             double(s.broken_count(dem::BreakMode::Tension)),
+                             double(s.broken_count(dem::BreakMode::Shear)), double(s.contact_count())});
+      kinetic_.push_back(s.kinetic_energy());
+      bond_.push_back(s.bond_energy());
+      work_.push_back(s.external_work());
+    }
+    if (fem_on_) {
+      const auto& f = m.fem();
+      row.insert(row.end(), {f.kinetic_energy(), f.strain_energy()});
+      fem_kinetic_.push_back(f.kinetic_energy());
+      fem_strain_.push_back(f.strain_energy());
+    }
+    if (!gauges_.empty()) {
+      const auto sums = gauge_displacements(m);
+      row.insert(row.end(), sums.begin(), sums.end());
+    }
     probes_->row(row);
   }
 
+  /// Mean displacement of each gauge group (its particles and FEM nodes together), `dim`
+  /// components per gauge.
+  std::vector<double> gauge_displacements(const BuiltModel& m) const {
+    std::vector<double> out;
+    std::vector<std::array<double, 3>> u;
+    std::vector<std::uint32_t> where;
+    if (particles_on_) {
+      u = m.sim().displacements();
+      const auto ids = m.sim().ids();
+      where.resize(ids.size());
+      for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = std::uint32_t(i);
+    }
+    for (const auto& g : gauges_) {
+      std::array<double, 3> sum{};
+      double n = 0;
+      if (m.groups.count(g))
+        for (auto id : m.sim().group_members(g)) {
+          for (int a = 0; a < 3; ++a) sum[a] += u[where[id]][a];
+          n += 1;
+        }
+      if (const auto it = m.fem_groups.find(g); it != m.fem_groups.end())
+        for (auto node : it->second) {
+          for (int a = 0; a < m.dim; ++a) sum[a] += m.fem().u()[Eigen::Index(node) * m.dim + a];
+          n += 1;
+        }
+      for (int a = 0; a < m.dim; ++a) out.push_back(n > 0 ? sum[a] / n : 0.0);
+    }
+    return out;
+  }
+
   void frame(const BuiltModel& m) {
-    last_frame_step_ = m.sim.step_count();
+    last_frame_step_ = m.step_count();
     if (!out_.boolean("vtk")) return;
-    const io::PointCloud all = particle_frame(m.sim, fields_);
-    const io::PointCloud pc = select_particles(m.sim, all, selection_);
-    const io::LineSet bonds = bond_frame(m.sim, selection_);
-    particles_.add_particles(m.sim.time(), pc);
-    bonds_.add_lines(m.sim.time(), all, bonds);
+    std::optional<io::MeshFrame> mesh;
+    if (fem_on_) {
+      const fem::Solver& f = m.fem();
+      mesh = fem_frame(f.mesh(), f.u(), f.v(), m.time(), m.step_count());
+      fem_->add_mesh(m.time(), *mesh);
+    }
+    if (!particles_on_) return;
+    const auto& sim = m.sim();
+    const io::PointCloud all = particle_frame(sim, fields_);
+    const io::PointCloud pc = select_particles(sim, all, selection_);
+    const io::LineSet bonds = bond_frame(sim, selection_);
+    particles_->add_particles(sim.time(), pc);
+    bonds_->add_lines(sim.time(), all, bonds);
 #if STRATA_WITH_RENDER
     if (out_.boolean("render") && out_.boolean("render_while_running")) {
       io::RenderRequest req;
       req.particles = &pc;
       req.bonds = &bonds;
       req.bond_points = &all;
-      req.png = dir_ / "png" / fmt::format("frame_{:06d}.png", particles_.frames().size() - 1);
+      req.mesh = mesh ? &*mesh : nullptr;
+      req.png = dir_ / "png" / fmt::format("frame_{:06d}.png", particles_->frames().size() - 1);
       req.style = render_style();
       io::render_frame(req);
       rendered_while_running_ = true;
@@ -165,8 +243,9 @@ class RunOutput {
     selection_.contacts = out.boolean("contacts");
     check_render_keys(out);
     for (const auto& g : out.strings("groups")) {
-      if (!m.groups.count(g)) out.fail("groups", fmt::format("no [[group]] or [[region]] is called '{}'", g));
-      selection_.group_mask |= 1u << m.sim.group_bit(g);
+      if (!m.groups.count(g))
+        out.fail("groups", fmt::format("no [[group]] or [[region]] of particles is called '{}'", g));
+      selection_.group_mask |= 1u << m.sim().group_bit(g);
     }
     selection_.slice_thickness = out.real("slice_thickness");
     for (std::size_t a = 0; a < 3; ++a) {
@@ -178,38 +257,42 @@ class RunOutput {
     if (selection_.slice_thickness > 0 && len == 0)
       out.fail("slice_normal", "the slice normal must not be zero");
     for (double& c : selection_.slice_normal) c /= len > 0 ? std::sqrt(len) : 1.0;
-    if (selection_.particles == FrameSelection::Particles::Surface) selection_.find_surface(m.sim);
+    if (selection_.particles == FrameSelection::Particles::Surface && m.has_particles())
+      selection_.find_surface(m.sim());
     return selection_;
   }
 
   /// Writes what is known at the end of a run (or at a failure): breaks, summary, plots.
   void finish(const BuiltModel& m, const json& model, double run_seconds, const std::string& status) {
     probes_->close();
-    io::CsvWriter breaks(dir_ / "breaks.csv", {"step", "time", "x", "y", "z", "mode", "id_i", "id_j"});
-    for (const auto& b : m.sim.breaks())
-      breaks.row({double(b.step), double(b.step) * m.dt, b.position[0], b.position[1], b.position[2],
-                  double(int(b.mode)), double(b.id_i), double(b.id_j)});
-    breaks.close();
+    if (particles_on_) {
+      io::CsvWriter breaks(dir_ / "breaks.csv", {"step", "time", "x", "y", "z", "mode", "id_i", "id_j"});
+      for (const auto& b : m.sim().breaks())
+        breaks.row({double(b.step), double(b.step) * m.dt, b.position[0], b.position[1], b.position[2],
+                    double(int(b.mode)), double(b.id_i), double(b.id_j)});
+      breaks.close();
+    }
 
     json summary = model;
     summary["status"] = status;
-    summary["steps_done"] = m.sim.step_count();
+    summary["steps_done"] = m.step_count();
     summary["wall_seconds"] = run_seconds;
     // this process's steps (a restart continues from first_step_)
+    const double n = particles_on_ ? double(m.sim().particle_count()) : 0.0;
     summary["particle_steps_per_s"] =
-        run_seconds > 0
-            ? double(m.sim.particle_count()) * double(m.sim.step_count() - first_step_) / run_seconds
-            : 0.0;
+        run_seconds > 0 ? n * double(m.step_count() - first_step_) / run_seconds : 0.0;
     if (first_step_ > 0) summary["restarted_at_step"] = first_step_;
-    summary["state_hash"] = fmt::format("{:016x}", m.sim.state_hash());
-    summary["broken_tension"] = m.sim.broken_count(dem::BreakMode::Tension);
-    summary["broken_shear"] = m.sim.broken_count(dem::BreakMode::Shear);
+    summary["state_hash"] = fmt::format("{:016x}", m.state_hash());
+    if (particles_on_) {
+      summary["broken_tension"] = m.sim().broken_count(dem::BreakMode::Tension);
+      summary["broken_shear"] = m.sim().broken_count(dem::BreakMode::Shear);
+    }
     if (!stress_.empty()) {
       const auto peak = std::max_element(stress_.begin(), stress_.end()) - stress_.begin();
       summary["peak_stress_pa"] = stress_[peak];
       summary["peak_strain"] = strain_[peak];
       // First tensile break: the strain of the first probe row at or after its step.
-      for (const auto& b : m.sim.breaks()) {
+      for (const auto& b : m.sim().breaks()) {
         if (b.mode != dem::BreakMode::Tension) continue;
         const auto it = std::lower_bound(probe_steps_.begin(), probe_steps_.end(), b.step);
         if (it != probe_steps_.end()) summary["tensile_onset_strain"] = strain_[it - probe_steps_.begin()];
@@ -219,11 +302,12 @@ class RunOutput {
     write_file_atomic(dir_ / "summary.json", summary.dump(2) + "\n");
     written_.push_back(dir_ / "summary.json");
     written_.push_back(dir_ / "probes.csv");
-    written_.push_back(dir_ / "breaks.csv");
-    if (!particles_.frames().empty()) {
-      written_.push_back(particles_.pvd_path());
-      written_.push_back(bonds_.pvd_path());
+    if (particles_on_) written_.push_back(dir_ / "breaks.csv");
+    if (particles_on_ && !particles_->frames().empty()) {
+      written_.push_back(particles_->pvd_path());
+      written_.push_back(bonds_->pvd_path());
     }
+    if (fem_on_ && !fem_->frames().empty()) written_.push_back(fem_->pvd_path());
   }
 
   /// Plots and pictures (needs STRATA_WITH_RENDER).
@@ -248,17 +332,32 @@ class RunOutput {
       p.title = "Energy";
       p.x_label = "time [s]";
       p.y_label = "energy [J]";
-      p.series.push_back({"kinetic", time_, kinetic_});
-      p.series.push_back({"bond strain", time_, bond_});
-      p.series.push_back({"work of external forces", time_, work_});
+      if (particles_on_) {
+        p.series.push_back({fem_on_ ? "kinetic (particles)" : "kinetic", time_, kinetic_});
+        p.series.push_back({"bond strain", time_, bond_});
+        p.series.push_back({"work of external forces", time_, work_});
+      }
+      if (fem_on_) {
+        p.series.push_back({"kinetic (FEM)", time_, fem_kinetic_});
+        p.series.push_back({"strain (FEM)", time_, fem_strain_});
+      }
       p.png = dir_ / "energy.png";
       io::plot_xy(p);
       written_.push_back(p.png);
     }
-    if (!particles_.frames().empty()) {
+    const bool frames =
+        (particles_on_ && !particles_->frames().empty()) || (fem_on_ && !fem_->frames().empty());
+    if (frames) {
       if (!rendered_while_running_) {
-        const auto pngs =
-            io::render_series(particles_.pvd_path(), dir_ / "png", render_style(), bonds_.pvd_path());
+        std::vector<fs::path> pngs;
+        if (particles_on_) {
+          pngs = io::render_series(particles_->pvd_path(), dir_ / "png", render_style(), bonds_->pvd_path(),
+                                   fem_on_ ? fem_->pvd_path() : fs::path());
+        } else {
+          std::vector<fs::path> meshes;
+          for (const auto& f : fem_->frames()) meshes.push_back(dir_ / f.file);
+          pngs = io::render_frames({}, dir_ / "png", render_style(), {}, meshes);
+        }
         if (pngs.empty()) return;
       }
       written_.push_back(dir_ / "png" / "");
@@ -274,10 +373,9 @@ class RunOutput {
   /// Drops frames later than `time` from the series (they may hold a blow-up in progress);
   /// returns the last frame kept, or an empty path.
   fs::path keep_frames_until(double time) {
-    if (particles_.frames().empty()) return {};
-    particles_.truncate_after(time);
-    bonds_.truncate_after(time);
-    return particles_.frames().empty() ? fs::path() : dir_ / particles_.frames().back().file;
+    for (auto* series : {&particles_, &bonds_, &fem_})
+      if (*series) (*series)->truncate_after(time);
+    return last_frame();
   }
 
   const std::vector<fs::path>& written() const { return written_; }
@@ -287,12 +385,14 @@ class RunOutput {
   fs::path dir_;
   const Table& out_;
   std::vector<std::string> fields_;
+  std::vector<std::string> gauges_;
   std::string title_;
   FrameSelection selection_;
   bool rendered_while_running_ = false;
-  io::Series particles_, bonds_;
+  bool particles_on_ = false, fem_on_ = false;
+  std::optional<io::Series> particles_, bonds_, fem_;
   std::optional<io::CsvWriter> probes_;
-  std::vector<double> time_, kinetic_, bond_, work_, strain_, stress_;
+  std::vector<double> time_, kinetic_, bond_, work_, fem_kinetic_, fem_strain_, strain_, stress_;
   std::vector<std::int64_t> probe_steps_;
   std::vector<fs::path> written_;
   std::int64_t last_frame_step_ = -1;

@@ -1,10 +1,12 @@
-// The one table of every key a scene file may hold (STYLE.md §8).
+// The one table of every key a scene file may hold: the loader checks scene files against it and
+// `strata reference` writes docs/scene-reference.md from it, so the two cannot disagree.
 //
 // To add a key: add one line to its table below with its type, unit, range, default and a
-// doc string a geologist can read (with the SPEC section it comes from), then regenerate
-// docs/scene-reference.md (`strata reference -o docs/scene-reference.md`; test_scene
-// fails until you do). Checks that involve more than one key (shape-dependent keys,
-// cross-references, list lengths against [scene].dimension) live in loader.cpp.
+// doc string a geologist can read (with the paper it comes from, cited as in
+// docs/references.md), then regenerate docs/scene-reference.md
+// (`strata reference -o docs/scene-reference.md`; test_scene fails until you do). Checks that
+// involve more than one key (shape-dependent keys, cross-references, list lengths against
+// [scene].dimension) live in loader.cpp.
 #include <strata/scene/scene.hpp>
 
 #include <fmt/format.h>
@@ -118,8 +120,8 @@ std::vector<TableSpec> make_schema() {
            K("seed", Integer)
                .ge(0)
                .def("1")
-               .doc("Seed of the random numbers (eccentric lattices, SPEC C4); the same seed gives the "
-                    "same model."),
+               .doc("Seed of the random numbers (the centroid offsets of eccentric lattices); the same seed "
+                    "gives the same model."),
        }});
 
   s.push_back(
@@ -127,51 +129,63 @@ std::vector<TableSpec> make_schema() {
        true,
        true,
        "A bonded-particle material: density, bond stiffnesses and bond strengths of the solid-lattice "
-       "law (SPEC C1). Regions refer to a material by its name.",
+       "law (Liu, Pollard & Shi 2013). Regions refer to a material by its name.",
        {
            K("name", String).required().doc("The material's name, used by the `material` key of [[region]]."),
            K("law", Choice)
                .choices({"solid_lattice"})
                .def(R"("solid_lattice")")
                .doc("Force law between particles. solid_lattice: linear normal and shear springs with "
-                    "bonds that break (Liu, Pollard & Shi 2013; SPEC C1)."),
+                    "bonds that break (Liu, Pollard & Shi 2013)."),
            K("density", Real, "kg/m^2 in 2D, kg/m^3 in 3D")
                .required()
                .gt(0)
                .doc("Mass density: per unit thickness in 2D (a disk of diameter d has mass "
-                    "ρ·(√3/2)·d², SPEC C1), per volume in 3D."),
+                    "ρ·(√3/2)·d², the area per disk of the hexagonal lattice), per volume in 3D."),
            K("kn", Real, "N/m")
                .required()
                .gt(0)
                .doc("Kn: normal stiffness of a bond or contact, Fn = Kn·Un with Un the overlap, "
-                    "compression positive (SPEC C1)."),
+                    "compression positive (Liu, Pollard & Shi 2013)."),
            K("ks", Real, "N/m")
                .required()
                .ge(0)
                .doc("Ks: shear stiffness, Fs = Ks·Us with Us the shear displacement accumulated since "
-                    "the contact formed (SPEC C1)."),
+                    "the contact formed (Liu, Pollard & Shi 2013)."),
            K("friction", Real)
                .ge(0)
                .def("0.0")
                .doc("μ: friction coefficient. A broken bond whose particles still touch carries "
-                    "|Fs| ≤ μ·Fn and no tension (SPEC C1)."),
+                    "|Fs| ≤ μ·Fn and no tension (Liu, Pollard & Shi 2013)."),
            K("tensile_strength", Real, "N")
                .ge(0)
                .allow_inf()
                .def("inf")
                .doc("Fn_max: a bond breaks in tension when its normal force falls below −Fn_max "
-                    "(SPEC C1). inf: bonds never break in tension."),
+                    "(Liu, Pollard & Shi 2013). inf: bonds never break in tension."),
            K("shear_strength", Real, "N")
                .ge(0)
                .allow_inf()
                .def("inf")
                .doc("Fs0: an intact bond breaks in shear when |Fs| exceeds Fs0 (Fs0 + μ·Fn with "
-                    "friction_strengthens_bonds; SPEC C1). inf: bonds never break in shear."),
+                    "friction_strengthens_bonds). inf: bonds never break in shear."),
            K("friction_strengthens_bonds", Bool)
                .def("true")
-               .doc("Shear limit of an intact bond: Fs0 + μ·max(Fn, 0) when true (the paper's criterion "
-                    "(5), the default: at the paper's settings it gives the peak at strain 3.06e-3 against "
-                    "the paper's 2.8e-3), Fs0 alone when false (peak at 1.80e-3). See docs/dem.md."),
+               .doc("Shear limit of an intact bond: Fs0 + μ·max(Fn, 0) when true (criterion (5) of Li et al. "
+                    "2017, the default: at that paper's settings it gives the peak at strain 3.06e-3 against "
+                    "its 2.8e-3), Fs0 alone when false (peak at 1.80e-3). See docs/dem.md."),
+           K("youngs_modulus", Real, "Pa")
+               .gt(0)
+               .doc("E of the material where it fills an FEM region; give it with poisson_ratio. Default: "
+                    "the continuum of the material's lattice, 2D E·t = 2√3·Kn(Kn+Ks)/(3Kn+Ks) per unit "
+                    "thickness t, 3D the isotropic average 2√2·Kn(2Kn+3Ks)/(d(4Kn+Ks)) at the particle "
+                    "regions' diameter d (Liu, Pollard & Shi 2013), so that particles and elements of one "
+                    "material match across an overlap."),
+           K("poisson_ratio", Real)
+               .gt(-1)
+               .lt(0.5)
+               .doc("ν of the material where it fills an FEM region (with youngs_modulus). Default: the "
+                    "lattice's, (Kn−Ks)/(3Kn+Ks) in 2D, (Kn−Ks)/(4Kn+Ks) in 3D."),
        }});
 
   s.push_back(
@@ -191,7 +205,7 @@ std::vector<TableSpec> make_schema() {
                .choices({"auto", "hex", "hcp", "fcc"})
                .def(R"("auto")")
                .doc("Packing of the particles: hex (2D), hcp or fcc (3D); auto is hex in 2D and hcp "
-                    "in 3D (SPEC C2)."),
+                    "in 3D."),
            K("diameter", Real, "m").gt(0).doc("Particle diameter d; required when kind = \"particles\"."),
            K("shape", Choice)
                .choices({"box", "disk", "sphere", "polygon", "file"})
@@ -237,29 +251,29 @@ std::vector<TableSpec> make_schema() {
            K("eccentricity", Choice)
                .choices({"none", "cube", "sphere"})
                .def(R"("none")")
-               .doc("Eccentric lattice (ECC4D, SPEC C4): move each particle's centroid by a random offset, "
-                    "uniform in a cube of half-side ra·R (cube, Type A) or uniform on a sphere (a circle in "
-                    "2D) "
-                    "of radius ra·R (sphere, Type B); bonds stay those of the regular lattice, with their "
-                    "initial lengths as rest lengths (the model starts unloaded). With an eccentric region "
-                    "in the scene every region is bonded within itself only (no bonds between regions)."),
+               .doc("Eccentric lattice (ECC4D, Zhao et al. 2021): move each particle's centroid by a random "
+                    "offset, uniform in a cube of half-side ra·R (cube, Type A) or uniform on a sphere (a "
+                    "circle in 2D) of radius ra·R (sphere, Type B); bonds stay those of the regular "
+                    "lattice, with their initial lengths as rest lengths (the model starts unloaded). With "
+                    "an eccentric region in the scene every region is bonded within itself only (no bonds "
+                    "between regions)."),
            K("ra", Real)
                .ge(0)
                .lt(1)
                .def("0.0")
                .doc("Ra: eccentricity of the centroid offsets, as a fraction of the particle radius R "
-                    "(SPEC C4)."),
+                    "(Zhao et al. 2021)."),
            K("rc", Real)
                .gt(0)
                .le(1)
                .def("1.0")
                .doc("Rc: bonds longer than Rc·L_max, with L_max the longest bond of the region, are "
-                    "weakened by gamma (SPEC C4)."),
+                    "weakened by gamma (Zhao et al. 2021)."),
            K("gamma", Real)
                .gt(0)
                .le(1)
                .def("1.0")
-               .doc("γ: stiffness factor of the weakened bonds, k -> γ·k (SPEC C4 uses 0.001)."),
+               .doc("γ: stiffness factor of the weakened bonds, k -> γ·k (Zhao et al. 2021 use 0.001)."),
        }});
 
   s.push_back(
@@ -312,7 +326,7 @@ std::vector<TableSpec> make_schema() {
        true,
        false,
        "A prescribed motion of a group: held fixed, moved at a constant velocity, or moved in steps "
-       "(the loading platens of SPEC C1).",
+       "(the loading platens of the uniaxial compression test of Li et al. 2017).",
        {
            K("group", String)
                .required()
@@ -321,7 +335,7 @@ std::vector<TableSpec> make_schema() {
                .required()
                .choices({"fixed", "velocity", "step_displacement"})
                .doc("fixed: held in place; velocity: moved at `velocity`; step_displacement: moved by "
-                    "`increment` every `every` steps (SPEC C1 moves its platens 1.9e-9 m every 400 "
+                    "`increment` every `every` steps (Li et al. 2017 move their platens 1.9e-9 m every 400 "
                     "steps)."),
            K("axes", StringList)
                .choices({"x", "y", "z"})
@@ -346,7 +360,8 @@ std::vector<TableSpec> make_schema() {
       {"load",
        true,
        false,
-       "A force history applied to a group, e.g. the blast pulse on the rim of a hole (SPEC C4); "
+       "A force history applied to a group, e.g. the blast pulse on the rim of a hole (the double-hole "
+       "plate of Zhao et al. 2021); "
        "the force is interpolated linearly between the listed times.",
        {
            K("group", String)
@@ -401,7 +416,7 @@ std::vector<TableSpec> make_schema() {
        false,
        false,
        "Time stepping and damping. Before a run strata compares the time step with the critical one "
-       "(for the 2D lattice dt_crit = 2·√(m/(6Kn+2Ks)), SPEC C1).",
+       "(for the 2D hexagonal lattice dt_crit = 2·√(m/(6Kn+2Ks))).",
        {
            K("dt", Real, "s")
                .ge(0)
@@ -412,7 +427,7 @@ std::vector<TableSpec> make_schema() {
                .gt(0)
                .le(1)
                .def("0.2")
-               .doc("Fraction of the critical time step used when dt = 0 (the paper of SPEC C1 used "
+               .doc("Fraction of the critical time step used when dt = 0 (Li et al. 2017 used "
                     "0.14)."),
            K("steps", Integer)
                .ge(0)
@@ -422,13 +437,13 @@ std::vector<TableSpec> make_schema() {
            K("damping", Choice)
                .choices({"none", "viscous", "local"})
                .def(R"("none")")
-               .doc("none; viscous: a force −c·v on each particle (the paper's artificial viscosity, "
-                    "SPEC C1); local: each force component is reduced by local_damping times its size, "
+               .doc("none; viscous: a force −c·v on each particle (the artificial viscosity of Li et al. "
+                    "2017); local: each force component is reduced by local_damping times its size, "
                     "against the velocity (Cundall's local damping)."),
            K("viscous_c", Real, "N·s/m")
                .ge(0)
                .def("0.0")
-               .doc("c of the viscous damping force −c·v (SPEC C1 uses 1.16e3 N·s/m)."),
+               .doc("c of the viscous damping force −c·v (Li et al. 2017 use 1.16e3 N·s/m)."),
            K("local_damping", Real)
                .ge(0)
                .lt(1)
@@ -458,6 +473,25 @@ std::vector<TableSpec> make_schema() {
                .doc("A thread is used only for at least this many particles (a parallel step costs a few "
                     "microseconds of synchronisation, more than it saves on small models when other work "
                     "shares the cores). Results do not depend on it."),
+           K("fem_integrator", Choice)
+               .choices({"auto", "central-difference", "explicit-newmark", "implicit-newmark"})
+               .def(R"("auto")")
+               .doc("Time integrator of FEM regions. auto: central difference while the FEM step is below "
+                    "its explicit limit, implicit Newmark (β = 1/4, γ = 1/2, unconditionally stable) above "
+                    "it. explicit-newmark is the predictor-corrector Newmark with a lumped mass: explicit, "
+                    "stable only for ω·dt ≤ 2."),
+           K("eta", Integer)
+               .ge(1)
+               .le(1000000)
+               .def("1")
+               .doc("η: FEM step over DEM step in a model with particle and FEM regions. One system step "
+                    "is one FEM step of η·dt and η particle steps of dt; the two sides exchange the overlap "
+                    "at every system step."),
+           K("coupling", Choice)
+               .choices({"serial", "parallel"})
+               .def(R"("serial")")
+               .doc("How a coupled model runs its two sides: one after the other, or the FEM side and the "
+                    "particles on two threads meeting once per system step. Both give the same bits."),
        }});
 
   s.push_back(
@@ -577,7 +611,7 @@ std::vector<TableSpec> make_schema() {
            K("stress_strain", Bool)
                .def("false")
                .doc("Record the axial stress and strain of a specimen between two groups, as in a "
-                    "laboratory compression test (SPEC C1); needs top_group and bottom_group."),
+                    "laboratory compression test (Li et al. 2017); needs top_group and bottom_group."),
            K("top_group", String)
                .def(R"("top")")
                .doc("The [[group]] (or [[region]]) at the upper end of the specimen (stress_strain)."),
@@ -592,19 +626,24 @@ std::vector<TableSpec> make_schema() {
            K("broken_bonds", Bool)
                .def("true")
                .doc("Record the number of bonds broken in tension and in shear."),
+           K("gauges", StringList)
+               .def("[]")
+               .doc("Groups whose mean displacement is recorded at every probe row (columns <group>_ux, "
+                    "<group>_uy and, in 3D, <group>_uz): particles, FEM nodes or both. Gauges compare runs "
+                    "of one geometry, e.g. a coupled model against an all-particle one."),
        }});
 
   // A coupled scene: the loader allows beside it only the tables and [output] keys of
   // coupled_scene_tables() and coupled_output_keys() (below), and of [coupled] only the keys
   // whose cases() hold its case; checks between these keys (keys a case needs, duration
-  // against η·dt_DEM) are in loader.cpp, stability (it needs the model) in report.cpp and
-  // wave_report.cpp.
+  // against η·dt_DEM) are in loader.cpp, stability (it needs the model) in
+  // cases/src/chain_report.cpp and cases/src/wave_report.cpp.
   const std::vector<std::string> chains{"chain6", "metamaterial"}, wave{"wave"};
   s.push_back(
       {"coupled",
        false,
        false,
-       "A coupled FEM–DEM model run as a sweep over the time-step ratio η: a chain of SPEC C3 "
+       "A coupled FEM–DEM model run as a sweep over the time-step ratio η: a chain of Li et al. 2023 "
        "(chain6, metamaterial; error and run time per η against an exact or reference answer) or "
        "the 2D coupled wave of examples/04_coupled_wave (wave; reflection and transmission of a "
        "pulse per η and pulse length). A scene with [coupled] describes the whole model: besides "
@@ -614,25 +653,26 @@ std::vector<TableSpec> make_schema() {
            K("case", Choice)
                .required()
                .choices({"chain6", "metamaterial", "wave"})
-               .doc("Which model: chain6, the 6-DOF verification chain (k = 1 N/m, m = 1 kg, P·sin(πt/2) "
-                    "on m2; error of m3 against the exact modal solution); metamaterial, 800 outer masses "
-                    "and 200 resonators (error of DEM mass 250 against a monolithic implicit Newmark run "
-                    "at dt_ref), see SPEC C3; wave, a 1D strain pulse from an FEM block into a particle "
-                    "block built from a 2D geometry file (R and T against the matched-impedance answer "
-                    "R = 0, T = 1), see examples/04_coupled_wave."),
+               .doc("Which model: chain6, the 6-DOF verification chain (k = 1 N/m, m = 1 kg, P·sin(πt/2) on "
+                    "m2; error of m3 against the exact modal solution); metamaterial, 800 outer masses and "
+                    "200 resonators (error of DEM mass 250 against a monolithic implicit Newmark run at "
+                    "dt_ref), as in Li et al. 2023; wave, a 1D strain pulse from an FEM block into a "
+                    "particle block built from a 2D geometry file (R and T against the matched-impedance "
+                    "answer R = 0, T = 1), see examples/04_coupled_wave."),
            K("title", String).def(R"("")").doc("A name for the run, shown in the report."),
            K("dt_dem", Real, "s")
                .gt(0)
                .cases(chains)
                .doc("DEM time step dt_DEM (velocity Verlet); the FEM step is η·dt_DEM; required for the "
                     "chains. An unstable dt_DEM is refused by `strata check` and `strata run` (the "
-                    "metamaterial chain needs dt_DEM <= 7.68e-5 s; the paper's 1e-4 s is unstable). The "
-                    "wave sets dt_DEM with dt_fraction."),
+                    "metamaterial chain needs dt_DEM <= 7.68e-5 s; the 1e-4 s of Li et al. 2023 is "
+                    "unstable). The wave sets dt_DEM with dt_fraction."),
            K("eta", IntegerList)
                .ge(1)
                .length(1, 0)
-               .default_note("per case: chain6, metamaterial `[1, 2, 3, 4, 5, 10, 20]` (the paper's); "
-                             "wave `[1, 2, 4, 5, 10]`, embedded `[1, 2, 5]`")
+               .default_note(
+                   "per case: chain6, metamaterial `[1, 2, 3, 4, 5, 10, 20]` (those of Li et al. 2023); "
+                   "wave `[1, 2, 4, 5, 10]`, embedded `[1, 2, 5]`")
                .doc("Time-step ratios η = dt_FEM/dt_DEM of the sweep, one run per value and mode "
                     "(and per wavelength for the wave)."),
            K("modes", Choice)
@@ -651,11 +691,11 @@ std::vector<TableSpec> make_schema() {
            K("fem_scheme", Choice)
                .choices({"auto", "central-difference", "explicit-newmark", "implicit-newmark"})
                .def(R"("auto")")
-               .doc("Integrator of the FEM partition: explicit-newmark is the paper's predictor-corrector "
-                    "Newmark with a lumped mass (explicit: stable only for ω·dt <= 2); central-difference "
-                    "is explicit too; implicit-newmark (β = 1/4, γ = 1/2, factorised once) is "
-                    "unconditionally stable. auto is explicit-newmark for chain6, implicit-newmark for "
-                    "metamaterial, and per η for the wave: central-difference while η·dt_DEM is below "
+               .doc("Integrator of the FEM partition: explicit-newmark is the predictor-corrector Newmark "
+                    "of Li et al. 2023 with a lumped mass (explicit: stable only for ω·dt <= 2); "
+                    "central-difference is explicit too; implicit-newmark (β = 1/4, γ = 1/2, factorised "
+                    "once) is unconditionally stable. auto is explicit-newmark for chain6, implicit-newmark "
+                    "for metamaterial, and per η for the wave: central-difference while η·dt_DEM is below "
                     "the FEM's explicit limit, implicit-newmark above it. An explicit FEM above its limit "
                     "is refused."),
            K("dt_ref", Real, "s")
@@ -666,8 +706,8 @@ std::vector<TableSpec> make_schema() {
            K("pulse_amplitude", Real, "N")
                .def("100.0")
                .cases({"metamaterial"})
-               .doc("Peak of the half-sine force pulse on outer mass 1, the free end (the paper's load "
-                    "history is not given, SPEC C3)."),
+               .doc("Peak of the half-sine force pulse on outer mass 1, the free end (Li et al. 2023 show "
+                    "their load history only in a figure, so this pulse is strata's choice)."),
            K("pulse_duration", Real, "s")
                .gt(0)
                .def("1e-3")

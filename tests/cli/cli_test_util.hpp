@@ -41,7 +41,7 @@ inline fs::path temp_dir(const std::string& name) {
   return d;
 }
 
-/// The SPEC C1 rock as a scene [[material]] named "rock".
+/// The rock of Liu, Pollard & Shi 2013 (1 mm disks) as a scene [[material]] named "rock".
 inline const std::string kMaterial = R"(
 [[material]]
 name = "rock"

@@ -160,7 +160,7 @@ TEST(Cli, BlowUpStopsTheRunAndKeepsTheLastGoodFrame) {
   fs::remove_all(d);
 }
 
-// SPEC C3: the paper's dt_DEM = 1e-4 s is unstable for the metamaterial chain; strata says
+// The dt_DEM = 1e-4 s of Li et al. 2023 is unstable for the metamaterial chain; strata says
 // so before running and names the stable limits.
 TEST(Cli, ReportRefusesThePapersUnstableStep) {
   const auto bad = strata("report metamaterial --dt-dem 1e-4 --check");

@@ -1,5 +1,5 @@
-// `strata check|run|mesh` of coupled-chain scenes ([coupled], SPEC C3): exit status, the
-// stability numbers, and what is (not) written.
+// `strata check|run|mesh` of coupled-chain scenes ([coupled], the chains of Li et al. 2023):
+// exit status, the stability numbers, and what is (not) written.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -20,7 +20,7 @@ const std::string kChain6 = fixtures::chain_scene("chain6", "1e-4", "1, 20", "du
 
 }  // namespace
 
-// SPEC C3: the paper's dt_DEM = 1e-4 s is unstable for the metamaterial chain. `strata check`
+// The dt_DEM = 1e-4 s of Li et al. 2023 is unstable for the metamaterial chain. `strata check`
 // refuses it (exit 2) at the scene's dt_dem, naming the whole chain's limit 7.68e-5 s and the
 // DEM partition's 8.0e-5 s (8.006e-5, printed as 8.01e-05 with three digits).
 TEST(CliCoupled, CheckRefusesThePapersStepNamingBothLimits) {

@@ -1,6 +1,6 @@
-// Eccentric lattices (ECC4D, SPEC C4) from a scene: `strata mesh` reports and plots the
-// spread of bond lengths, and `strata run` simulates the model (per-bond rest lengths, so
-// it starts unloaded).
+// Eccentric lattices (ECC4D, Zhao et al. 2021) from a scene: `strata mesh` reports and plots
+// the spread of bond lengths, and `strata run` simulates the model (per-bond rest lengths,
+// so it starts unloaded).
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 

@@ -95,22 +95,19 @@ TEST(CliMesh, MeshesFemRegionsAndWritesThem) {
   fs::remove_all(d);
 }
 
-TEST(CliMesh, RunAndCheckRefuseFemRegions) {
+TEST(CliMesh, RunAndCheckBuildBothPartsOfAMixedScene) {
+  // A particle box and an FEM box sharing a face of one geometry file: coupled through the
+  // overlap layer, one series with both parts.
   const fs::path d = temp_dir("mesh_fem_run");
-  const std::string text = mixed_scene();
-  const fs::path scene = write(d, "mixed.toml", text);
-  const std::string at = scene.string() + ":" + std::to_string(line_of(text, "kind = \"fem\"")) + ":";
-  for (const char* cmd : {"run", "check"}) {
-    const std::string out = cmd == std::string("run") ? " -o " + (d / "out").string() : "";
-    const auto r = strata(std::string(cmd) + " " + scene.string() + out);
-    EXPECT_EQ(r.status, 2) << cmd << "\n" << r.output;
-    EXPECT_NE(r.output.find(at), std::string::npos) << cmd << "\n" << r.output;
-    EXPECT_NE(r.output.find("region 'elastic': kind = \"fem\" cannot be run or checked"), std::string::npos)
-        << r.output;
-    EXPECT_NE(r.output.find("allowed here: kind = \"particles\""), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("[coupled]"), std::string::npos) << r.output;
-  }
-  EXPECT_FALSE(fs::exists(d / "out" / "summary.json"));
+  const fs::path scene = write(d, "mixed.toml", mixed_scene());
+  const auto c = strata("check " + scene.string());
+  EXPECT_EQ(c.status, 0) << c.output;
+  EXPECT_NE(c.output.find("coupling     eta = 1 (serial)"), std::string::npos) << c.output;
+  EXPECT_NE(c.output.find("FEM region   elastic"), std::string::npos) << c.output;
+  const auto r = strata("run " + scene.string() + " -o " + (d / "out").string());
+  EXPECT_EQ(r.status, 0) << r.output;
+  EXPECT_TRUE(fs::exists(d / "out" / "particles.pvd"));
+  EXPECT_TRUE(fs::exists(d / "out" / "fem.pvd"));
   fs::remove_all(d);
 }
 

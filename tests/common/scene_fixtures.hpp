@@ -21,7 +21,7 @@ group = "bottom"
 type = "fixed"
 )toml";
 
-/// A coupled-chain scene ([coupled], SPEC C3): `case_name` (chain6 or metamaterial) at
+/// A coupled-chain scene ([coupled], Li et al. 2023): `case_name` (chain6 or metamaterial) at
 /// dt_dem = `dt_dem` s for the η values `eta` ("1, 20"), serial, output in "res" without
 /// pictures; `more` (whole lines) follows the modes line. The tests point at line numbers:
 /// 1 [coupled], 2 case, 3 dt_dem, 4 eta, 5 modes, then `more`, a blank line and [output].

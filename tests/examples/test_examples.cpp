@@ -45,12 +45,14 @@ const fs::path kOut = fs::path(STRATA_BINARY_DIR) / "examples-out";
 
 }  // namespace
 
-// SPEC C1, quick variant: the same specimen loaded faster. Checks:
+// examples/01_uniaxial_compression (Li et al. 2017), quick variant: the same specimen loaded
+// faster. Checks:
 //  - Young's modulus from the initial slope against the analytical hex-lattice value
 //    E·t = 2√3·Kn(Kn+Ks)/(3Kn+Ks) = 9.236e10 N/m (t = 1 m): within 2 % — the finite
-//    1033-disk block between frictionless platens measures 9.23e10 (SPEC), the rest is the
-//    platen rows' dynamic response at this loading rate;
-//  - tensile bond failure comes first, near the affine estimate (SPEC: 7e-4 reported,
+//    1033-disk block between frictionless platens measures 9.23e10 at scene.toml's slow rate
+//    (see the example's README), the rest is the platen rows' dynamic response at this
+//    loading rate;
+//  - tensile bond failure comes first, near the affine estimate (Li et al. 2017 report 7e-4,
 //    1.0e-3 affine): between 5e-4 and 1.1e-3;
 //  - the peak comes after the first tensile break and the stress then drops by more than half.
 TEST(Examples, UniaxialCompressionQuick) {
@@ -92,8 +94,9 @@ TEST(Examples, UniaxialCompressionQuick) {
   EXPECT_LT(stress.back(), 0.5 * peak_stress) << "no stress drop after the peak";
 }
 
-// SPEC C3, quick variant of the metamaterial chain (a coupled-chain scene): the sweep's files,
-// and the error of DEM mass 250 against the monolithic implicit Newmark reference:
+// examples/02_metamaterial_chain (Li et al. 2023), quick variant of the metamaterial chain (a
+// coupled-chain scene): the sweep's files, and the error of DEM mass 250 against the
+// monolithic implicit Newmark reference:
 //  - at eta = 1 below 5 % of the peak displacement: the explicit DEM step's own dispersion at
 //    omega*dt up to 1.3 gives about 2 % (the monolithic central difference at the same dt has
 //    1.9 %, the last row), so 5 % leaves room for the coupling but not for a wrong exchange;

@@ -1,4 +1,4 @@
-// The driver's frame builders (apps/src/frames.cpp) written with io and read back with VTK's
+// The frame builders of a run (scene/src/frames.cpp) written with io and read back with VTK's
 // own readers: contacts as line cells with state 4 in the bond frames, and FEM meshes as
 // unstructured grids with displacement, velocity and element stress.
 #include <gtest/gtest.h>

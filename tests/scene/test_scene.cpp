@@ -91,10 +91,11 @@ class TempDir {
 };
 
 const std::string kMaterialKeys =
-    "name, law, density, kn, ks, friction, tensile_strength, shear_strength, friction_strengthens_bonds";
+    "name, law, density, kn, ks, friction, tensile_strength, shear_strength, friction_strengthens_bonds, "
+    "youngs_modulus, poisson_ratio";
 const std::string kSolverKeys =
     "dt, dt_safety, steps, duration, damping, viscous_c, local_damping, gravity, contact_detection, "
-    "allow_unstable, threads, min_particles_per_thread";
+    "allow_unstable, threads, min_particles_per_thread, fem_integrator, eta, coupling";
 
 }  // namespace
 
@@ -104,7 +105,7 @@ TEST(SceneLoad, FullSceneParsesWithDefaultsAndResolvedPaths) {
   TempDir dir;
   dir.write("geom/specimen.geo", "// gmsh geometry\n");
   const fs::path file = dir.write("case/../scene.toml", R"toml([scene]
-title = "Uniaxial compression (SPEC C1)"
+title = "Uniaxial compression"
 dimension = 2
 
 [[material]]
@@ -180,7 +181,7 @@ stress_strain = true
   EXPECT_EQ(s.dir, file.parent_path().lexically_normal());
 
   const auto& scene = s.table("scene");
-  EXPECT_EQ(scene.str("title"), "Uniaxial compression (SPEC C1)");
+  EXPECT_EQ(scene.str("title"), "Uniaxial compression");
   EXPECT_EQ(scene.integer("dimension"), 2);
   EXPECT_EQ(scene.real("thickness"), 1.0);  // default
   EXPECT_FALSE(scene.given("thickness"));
@@ -368,8 +369,8 @@ TEST(SceneErrors, MissingRequiredKeyPointsAtTheTableHeader) {
   EXPECT_EQ(
       error_of(edit("type = \"fixed\"\n", "")),
       "scene.toml:25:1: [[boundary]] at index 0 is missing required key 'type' (fixed: held in place; "
-      "velocity: moved at `velocity`; step_displacement: moved by `increment` every `every` steps (SPEC C1 "
-      "moves its platens 1.9e-9 m every 400 steps))");
+      "velocity: moved at `velocity`; step_displacement: moved by `increment` every `every` steps (Li et al. "
+      "2017 move their platens 1.9e-9 m every 400 steps))");
   EXPECT_EQ(
       error_of(edit("dimension = 2\n", "")),
       "scene.toml:1:1: [scene] is missing required key 'dimension' (2 for a plane model of disks (hexagonal "
@@ -379,7 +380,7 @@ TEST(SceneErrors, MissingRequiredKeyPointsAtTheTableHeader) {
 TEST(SceneErrors, MissingRequiredTable) {
   EXPECT_EQ(error_of(kBase.substr(0, kBase.find("[[material]]")) + kBase.substr(kBase.find("[[region]]"))),
             "scene.toml:1:1: missing required table [[material]] (a bonded-particle material: density, bond "
-            "stiffnesses and bond strengths of the solid-lattice law (SPEC C1))");
+            "stiffnesses and bond strengths of the solid-lattice law (Liu, Pollard & Shi 2013))");
   EXPECT_EQ(error_of(""),
             "scene.toml:1:1: missing required table [scene] (what the model is: a title, 2D or 3D, "
             "and the random seed)");
@@ -594,5 +595,5 @@ TEST(SceneSchema, ReferenceDocIsInSyncWithTheSchema) {
   const std::string generated = strata::scene::reference_markdown();
   if (committed.str() != generated) std::ofstream(fresh) << generated;
   EXPECT_TRUE(committed.str() == generated)
-      << doc.string() << " is missing or differs from the schema (apps/src/scene/schema.cpp). " << how;
+      << doc.string() << " is missing or differs from the schema (scene/src/schema.cpp). " << how;
 }

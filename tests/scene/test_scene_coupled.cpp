@@ -1,6 +1,6 @@
-// Coupled scenes ([coupled]: the SPEC C3 chains and the 2D coupled wave): they load, map onto
-// the sweep's options, and refuse mixed particle tables, misspelt keys, keys of another case
-// and bad η values with file:line:col messages.
+// Coupled scenes ([coupled]: the chains of Li et al. 2023 and the 2D coupled wave): they load,
+// map onto the sweep's options, and refuse mixed particle tables, misspelt keys, keys of
+// another case and bad η values with file:line:col messages.
 #include <gtest/gtest.h>
 
 #include <strata/core/error.hpp>
@@ -10,9 +10,9 @@
 #include <vector>
 
 #include <strata/cases/chain_report.hpp>
+#include <strata/cases/wave_report.hpp>
 #include <strata/scene/scene.hpp>
 #include "scene_fixtures.hpp"
-#include <strata/cases/wave_report.hpp>
 
 using strata::scene::Scene;
 

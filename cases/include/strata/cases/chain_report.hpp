@@ -1,6 +1,7 @@
 #pragma once
-/// Error-versus-run-time sweeps of the coupled chain cases of SPEC C3 over η (serial and
-/// parallel), written as CSV, Markdown, a PNG plot and summary.json. Two entry points share
+/// Error-versus-run-time sweeps of the coupled chain cases of Li et al. 2023 (the 6-DOF chain
+/// and the 800-mass metamaterial chain) over η (serial and parallel), written as CSV,
+/// Markdown, a PNG plot and summary.json. Two entry points share
 /// one path: `strata report chain6|metamaterial [options]` and `strata check|run SCENE` of a
 /// coupled-chain scene ([coupled], see docs/scene-reference.md). A [coupled] scene with
 /// case = "wave" goes to the coupled wave's path instead (wave_report.hpp), through the same

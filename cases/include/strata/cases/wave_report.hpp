@@ -1,17 +1,18 @@
 #pragma once
-/// `strata report wave`: a 2D FEM–DEM coupled model built from a geometry file (issue 6).
+/// `strata report wave`: a 2D FEM–DEM coupled model built from a geometry file.
 ///
 /// Two physical surfaces sharing a straight side (default examples/04_coupled_wave/wave.geo:
 /// an FEM block and a particle block side by side). `preprocess::build_overlap` fills the
 /// particle block (and the one-layer overlap) with a hexagonal lattice of diameter d and
 /// meshes the FEM block with gmsh so that FEM nodes coincide with the overlap particles.
 ///
-///  - DEM: libdem `Simulation`, SPEC C1 bond stiffnesses (Kn = 6.587e10 N/m, Ks = 2.371e10
-///    N/m, ρ = 2650 kg/m² per unit thickness), unbreakable bonds, no contact search, no
-///    damping, leapfrog at dt_DEM = dt_fraction × 2/√λmax of the infinite hex lattice.
+///  - DEM: libdem `Simulation`, the bond stiffnesses of Liu, Pollard & Shi 2013 (Kn = 6.587e10
+///    N/m, Ks = 2.371e10 N/m, ρ = 2650 kg/m² per unit thickness), unbreakable bonds, no contact
+///    search, no damping, leapfrog at dt_DEM = dt_fraction × 2/√λmax of the infinite hex lattice.
 ///  - FEM: libfem linear triangles, plane stress, E = 2√3·Kn(Kn+Ks)/(3Kn+Ks) = 9.236e10 Pa,
-///    ν = (Kn−Ks)/(3Kn+Ks) = 0.1905, ρ = 2650 kg/m³, thickness 1 m (SPEC C2): the same
-///    long-wavelength elasticity and mass per area as the lattice, so the impedances match.
+///    ν = (Kn−Ks)/(3Kn+Ks) = 0.1905, ρ = 2650 kg/m³, thickness 1 m (the hexagonal lattice's
+///    constants, Liu, Pollard & Shi 2013): the same long-wavelength elasticity and mass per area
+///    as the lattice, so the impedances match.
 ///    dt_FEM = η·dt_DEM; central difference where that is below the FEM's explicit limit,
 ///    implicit Newmark (β = 1/4, γ = 1/2) otherwise ("auto").
 ///  - Rollers on both lateral sides (FEM nodes on the sides, the end particles of every

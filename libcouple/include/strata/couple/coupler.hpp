@@ -1,18 +1,27 @@
 #pragma once
-/// FEM–DEM coupling through a one-layer overlapping boundary with an integer time-step
-/// ratio η (SPEC C3, seed 001):
+/// FEM–DEM coupling through overlapping domains with an integer time-step ratio η:
 ///
-///   FEM nodes and DEM particles are internal (I), boundary (B) or external (E); FEM B + E
-///   coincide with DEM E + B. One system step = one FEM step of η·dt_DEM = η DEM steps.
-///   At the start of every system step both sides copy displacement and velocity, with no
-///   interpolation:  X_E(DEM) = X_B(FEM),  X_E(FEM) = X_B(DEM).
-///   During the step each side moves its external DOFs with the copied velocity
-///   (u_E(t) = u_E + v_E·(t − t_n)), then both advance from the same copied state.
+///   FEM nodes and DEM particles are internal (I), boundary (B) or external (E). The two
+///   models overlap: a zone where both compute, each side's outermost DOFs (its externals)
+///   lying inside the other side's domain. One system step = one FEM step of η·dt_DEM = η DEM
+///   steps. At the start of every system step both sides transfer displacement and velocity:
+///   X_E(DEM) = Σ w·X_B(FEM),  X_E(FEM) = Σ w·X_B(DEM), each external DOF a weighted sum of
+///   the other side's boundary DOFs (Link terms). During the step each side moves its
+///   external DOFs with the transferred velocity (u_E(t) = u_E + v_E·(t − t_n)), then both
+///   advance from the same transferred state.
+///
+///   A coincident overlap (node on particle) is the special case of one source of weight 1:
+///   the value is copied, bit for bit (make_overlap builds such links). An interpolating
+///   overlap (preprocess::build_coupled_model, general path) uses the FEM shape functions at
+///   a DEM external particle and a linear least-squares fit to the particles at an FEM
+///   external node: both reproduce affine fields exactly (the patch property), so a rigid
+///   motion or a uniform strain crosses the overlap unchanged.
 ///
 /// Because both sides read the state at t_n (a Jacobi exchange), the serial order does not
 /// matter and the parallel mode — each partition on its own thread, meeting at one barrier
-/// per system step and exchanging only the overlap through double-buffered mailboxes —
-/// gives bit-identical results (tested).
+/// per system step and exchanging only the transferred values through double-buffered
+/// mailboxes — gives bit-identical results (tested). Each side evaluates the weighted sums
+/// of its own boundary values, in the same order in both modes.
 #include <strata/couple/partition.hpp>
 
 #include <cstdint>
@@ -22,10 +31,16 @@
 
 namespace strata::couple {
 
-/// One copied DOF: value of `from` on one side is prescribed on `to` of the other side.
+/// One external DOF `to` of one side and where its value comes from on the other side:
+/// with `sources` empty, a copy of DOF `from` (the value itself, bit for bit); otherwise the
+/// weighted sum Σ weight[k]·value(sources[k]), in the order listed (interpolating overlaps;
+/// `from` is then informative, e.g. sources[0]). A single source of weight exactly 1 is a
+/// copy too.
 struct Link {
   std::size_t from;
   std::size_t to;
+  std::vector<std::size_t> sources;
+  std::vector<double> weight;
 };
 
 /// The overlap: FEM boundary → DEM external, DEM boundary → FEM external.
@@ -34,11 +49,15 @@ struct Overlap {
   std::vector<Link> dem_to_fem;
 };
 
-/// Builds the overlap from per-DOF roles and a common id per DOF (global node id, or the
-/// id of the coincident FEM node / particle centre from `preprocess`). Checks the SPEC rule
-/// (every FEM B matches one DEM E, every DEM B one FEM E); throws strata::Error(Input).
+/// Builds a copying overlap from per-DOF roles and a common id per DOF (global node id, or
+/// the id of the coincident FEM node / particle centre from `preprocess`). Checks that every
+/// FEM B matches one DEM E and every DEM B one FEM E; throws strata::Error(Input).
 Overlap make_overlap(const std::vector<std::int64_t>& fem_ids, const std::vector<Role>& fem_roles,
                      const std::vector<std::int64_t>& dem_ids, const std::vector<Role>& dem_roles);
+
+/// Links between points (particles, nodes) expanded to links between their DOFs: point p,
+/// axis a is DOF p·dim + a, and every axis takes the point's sources and weights.
+std::vector<Link> dof_links(const std::vector<Link>& point_links, int dim);
 
 enum class Execution { Serial, Parallel };
 std::string to_string(Execution e);
@@ -70,7 +89,10 @@ struct ProbeHistory {
 
 class Coupler {
  public:
-  /// `fem.dt()` must equal eta·`dem.dt()` (relative 1e-12). Declares the external DOFs.
+  /// `fem.dt()` must equal eta·`dem.dt()` (relative 1e-12). Declares the external DOFs (the
+  /// `to` of the links). Throws strata::Error(Input) for a DOF out of range, a weight that
+  /// is not finite, or a source that is itself external on its side (a transfer must read
+  /// values its side computes).
   Coupler(Partition& fem, Partition& dem, Overlap overlap, int eta, Execution mode = Execution::Serial);
 
   /// Records displacement of a DOF after every step of its partition (and at t = 0).
@@ -85,7 +107,7 @@ class Coupler {
 
   /// Prepares both partitions (Partition::prepare), checks stability (throws
   /// strata::Error(Input) naming the limits unless allow_unstable), initialises both
-  /// partitions and copies the initial overlap.
+  /// partitions and transfers the initial overlap.
   void initialise(bool allow_unstable = false);
   /// Runs `system_steps` system steps (each: exchange, 1 FEM step, η DEM steps).
   void run(std::int64_t system_steps);
@@ -97,12 +119,29 @@ class Coupler {
   std::int64_t system_steps_done() const { return done_; }
 
  private:
+  /// The links of one direction in compressed rows: external DOF to[k] takes
+  /// Σ weight[j]·value(from[j]) over j in [first[k], first[k+1]); copy[k] when that is one
+  /// source of weight 1.
+  struct Transfer {
+    std::vector<std::size_t> to, first, from;
+    std::vector<double> weight;
+    std::vector<char> copy;
+    /// Displacement and velocity of every target (2 per target) from the source side.
+    void gather(const Partition& src, std::vector<double>& out) const;
+    /// Prescribes gathered values on the target side.
+    void scatter(Partition& dst, const std::vector<double>& in) const;
+  };
+  static Transfer compile(const std::vector<Link>& links, const Partition& src, const Partition& dst,
+                          const char* what);
+  void exchange();
   void record_fem();
   void record_dem();
 
   Partition& fem_;
   Partition& dem_;
   Overlap overlap_;
+  Transfer to_dem_, to_fem_;
+  std::vector<double> buf_dem_, buf_fem_;
   int eta_;
   Execution mode_;
   CoupledStability stab_;

@@ -28,6 +28,7 @@
 /// Prescribed DOFs are driven from outside (coupling, moving supports): set_prescribed(d, u, v)
 /// at time t0 makes u_d(t) = u + v·(t − t0), v_d(t) = v, a_d = 0 until set again. Fixed DOFs
 /// are prescribed DOFs held at zero. The set of prescribed DOFs is frozen by initialise().
+#include <strata/core/state_io.hpp>
 #include <strata/fem/assembly.hpp>
 #include <strata/fem/critical_step.hpp>
 #include <strata/fem/mesh.hpp>
@@ -86,6 +87,11 @@ class Solver {
   void add_load(std::size_t d, std::function<double(double)> f);
   /// Initial displacement and velocity of the free DOFs (default: rest).
   void set_initial_state(const Eigen::VectorXd& u0, const Eigen::VectorXd& v0);
+  /// Sets the time step (s, > 0); only before initialise(), e.g. once a coupled model knows
+  /// the step its other partition allows.
+  void set_dt(double dt);
+  /// Sets the integrator; only before initialise().
+  void set_scheme(Scheme scheme);
   /// Checks dt, factorises (implicit), computes the initial acceleration.
   void initialise();
 
@@ -116,6 +122,15 @@ class Solver {
   double strain_energy() const;
   /// Σ |work| done on the model by loads and prescribed DOFs so far (J).
   double work_bound() const { return work_abs_; }
+  /// Writes the state a continued run needs (time, step, u, v, a, prescribed DOFs' current
+  /// values, work and energy bookkeeping) under `prefix` ("fem/").
+  void save_state(StateWriter& out, const std::string& prefix = "fem/") const;
+  /// Restores a state written by save_state on a solver built and initialised from the same
+  /// mesh and settings; the run then continues bit for bit as if it had not stopped. Throws
+  /// strata::Error (IO) on a size mismatch.
+  void load_state(const StateReader& in, const std::string& prefix = "fem/");
+  /// Last step that passed the blow-up check (0 before the first).
+  std::int64_t last_good_step() const { return last_good_; }
   /// Mask of the prescribed (incl. fixed) DOFs.
   const std::vector<char>& prescribed_mask() const { return is_prescribed_; }
 

@@ -4,12 +4,17 @@
 /// little more than the particles themselves; build_model turns a description into a DEM
 /// model with boundary conditions, loads and walls. `strata mesh` uses the description
 /// only. Nothing is written to disk here.
+#include <strata/couple/coupler.hpp>
+#include <strata/couple/dem_partition.hpp>
+#include <strata/couple/fem_partition.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/preprocess/ecc.hpp>
 #include <strata/preprocess/lattice.hpp>
 #include <strata/preprocess/mesh.hpp>
+#include <strata/preprocess/overlap.hpp>
 
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -64,6 +69,9 @@ struct ModelDescription {
   /// of all regions together; otherwise each region is bonded within itself.
   bool bonds_across_regions = true;
   double seconds = 0;  ///< time to fill
+  /// A coupled model: the particle id of each particle of the overlap model (its particle
+  /// regions, then the band of DEM external particles, region "overlap").
+  std::vector<std::uint32_t> overlap_particle_id;
 
   std::size_t particle_count() const;
   std::size_t fem_nodes() const;
@@ -73,8 +81,12 @@ struct ModelDescription {
 };
 
 /// Fills the scene's regions. FEM regions (kind = "fem") are meshed when `allow_fem`, and
-/// refused (Error Input, at the region's `kind`) otherwise.
-ModelDescription describe_model(const scene::Scene& sc, bool allow_fem);
+/// refused (Error Input, at the region's `kind`) otherwise. With `coupled` (the overlap model
+/// of the scene's particle and FEM regions) the particle regions take their particles from
+/// it, the band of DEM external particles becomes region "overlap", and FEM regions are not
+/// meshed again.
+ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
+                                const preprocess::OverlapModel* coupled = nullptr);
 
 /// Bond counts of the model build_model would make, by length class (classes 0.02·d_ref
 /// wide, d_ref = the first region's diameter), without storing the bonds of regular
@@ -85,7 +97,7 @@ preprocess::PairCounts count_bonds(const ModelDescription& d);
 /// in 3D): the surface of the model, as FrameSelection::find_surface finds it on a model.
 std::vector<std::uint32_t> surface_particles(const ModelDescription& d);
 
-/// Axial stress and strain between two platen groups (SPEC C1): compression positive.
+/// Axial stress and strain between two platen groups: compression positive.
 struct PlatenProbe {
   bool enabled = false;
   std::string top, bottom;
@@ -95,24 +107,77 @@ struct PlatenProbe {
   double radius = 0;   ///< particle radius of the platen rows
 };
 
-/// A model ready to run: the simulation (initialised, dt set) and what the reports need.
+/// One FEM region as built: its elements are block `block` of the FEM mesh.
+struct FemRegionInfo {
+  std::string name;
+  std::size_t elements = 0;
+  double youngs_modulus = 0, poisson_ratio = 0, density = 0;  ///< Pa, -, kg/m^3
+};
+
+/// A model ready to run: DEM particles, FEM elements or both coupled through overlap layers,
+/// initialised with its time step set, and what the reports need.
+///
+/// Steps are counted in steps of `dt`: the DEM step of a model with particles, the FEM step
+/// of an FEM-only model. A coupled model advances by whole system steps (η DEM steps and one
+/// FEM step of η·dt), so its step counts are multiples of η.
 struct BuiltModel {
+  BuiltModel();
+  ~BuiltModel();
+  BuiltModel(BuiltModel&&) noexcept;
+  BuiltModel& operator=(BuiltModel&&) noexcept;
+
   int dim = 2;
-  dem::Simulation sim;
-  std::vector<RegionInfo> regions;
-  std::map<std::string, std::size_t> groups;  ///< group name -> particle count
-  double dt_crit = 0;
+  std::vector<RegionInfo> regions;                               ///< particle regions
+  std::vector<FemRegionInfo> fem_regions;                        ///< FEM regions
+  std::map<std::string, std::size_t> groups;                     ///< group name -> particle count
+  std::map<std::string, std::vector<std::uint32_t>> fem_groups;  ///< group name -> FEM nodes
+  double dt_crit = 0;      ///< the limit dt is checked against (coupled: the DEM side's)
+  double fem_dt_crit = 0;  ///< limit of the FEM integrator in use (+inf: implicit)
+  double fem_explicit_dt_crit = 0;
   double dt = 0;
   bool dt_automatic = false;
   std::int64_t steps = 0;
+  int eta = 1;  ///< FEM step / DEM step of a coupled model
+  couple::Execution execution_mode = couple::Execution::Serial;
   double build_seconds = 0;
   PlatenProbe platens;
+  std::size_t overlap_particles = 0, overlap_nodes = 0;  ///< externals of the coupling (each side)
+
+  bool has_particles() const { return dem_ != nullptr || dem_partition_ != nullptr; }
+  bool has_fem() const { return fem_partition_ != nullptr; }
+  bool coupled() const { return coupler_ != nullptr; }
+  /// The particles (has_particles()).
+  dem::Simulation& sim();
+  const dem::Simulation& sim() const;
+  /// The FEM solver (has_fem()).
+  fem::Solver& fem();
+  const fem::Solver& fem() const;
+  /// Integrator of the FEM side in words ("" without FEM).
+  std::string fem_integrator() const;
+  /// "serial" or "parallel" (coupled models).
+  std::string execution() const;
+
+  /// Steps done (in steps of dt) and the simulated time.
+  std::int64_t step_count() const;
+  double time() const;
+  /// Advances `steps` steps of dt (coupled: a multiple of eta).
+  void advance(std::int64_t steps);
+  /// Last step whose state passed the health checks of every part.
+  std::int64_t last_good_step() const;
+  /// A hash of the whole state (particles, bonds, FEM displacements and velocities).
+  std::uint64_t state_hash() const;
+
+  // The parts (set by build_model).
+  std::unique_ptr<dem::Simulation> dem_;
+  std::unique_ptr<couple::DemPartition> dem_partition_;
+  std::unique_ptr<couple::FemPartition> fem_partition_;
+  std::unique_ptr<couple::Coupler> coupler_;
 };
 
-/// Builds and initialises the model. Throws strata::Error: Input (exit 2) for scenes that
-/// cannot be built, including FEM regions (runs of FEM regions go through [coupled] scenes
-/// and `strata report wave`) and dt > dt_crit unless allowed (`force` or
-/// solver.allow_unstable).
+/// Builds and initialises the model: particle regions, FEM regions, and the overlap layers
+/// where a particle region meets an FEM region of the same geometry file. Throws
+/// strata::Error: Input (exit 2, at the scene key) for scenes that cannot be built, and for
+/// dt above the critical step of any part unless allowed (`force` or solver.allow_unstable).
 BuiltModel build_model(const scene::Scene& sc, bool force);
 
 /// Axial strain and stress between the platens at the simulation's current state.

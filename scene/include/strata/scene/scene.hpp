@@ -152,8 +152,9 @@ class Scene {
   /// The entries of an array of tables (possibly empty).
   const std::vector<Table>& tables(const std::string& name) const;
 
-  /// A coupled scene (SPEC C3 chains, or the 2D coupled wave of examples/04_coupled_wave): it
-  /// has a [coupled] table, which describes the whole model, and no particle or mesh tables
+  /// A coupled scene (the coupled chains of Li et al. 2023, or the 2D coupled wave of
+  /// examples/04_coupled_wave): it has a [coupled] table, which describes the whole model, and no particle or
+  /// mesh tables
   /// ([scene], [[material]], [[region]], ...).
   bool coupled() const { return !tables("coupled").empty(); }
 

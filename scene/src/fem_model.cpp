@@ -1,0 +1,464 @@
+// The FEM side of a model: FEM regions meshed (alone, or with the overlap ring of a coupled
+// model), their materials, node groups, boundary conditions and loads, the integrator and
+// its time step, and the coupling with the particles through the overlap layers.
+#include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
+#include <strata/fem/mesh.hpp>
+#include <strata/fem/solver.hpp>
+#include <strata/preprocess/overlap.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <set>
+
+#include "model_parts.hpp"
+
+namespace strata::scene {
+namespace {
+
+/// Elastic constants and density of a material as a continuum. Given youngs_modulus and
+/// poisson_ratio are used as they are; otherwise the material's lattice is homogenised: in
+/// 2D the hexagonal lattice per unit thickness, E·t = 2√3·Kn(Kn+Ks)/(3Kn+Ks) and
+/// ν = (Kn−Ks)/(3Kn+Ks); in 3D the isotropic (Voigt) average of the close-packed lattice,
+/// E = 2√2·Kn(2Kn+3Ks)/(d(4Kn+Ks)) and ν = (Kn−Ks)/(4Kn+Ks) (Liu, Pollard & Shi 2013). The
+/// density per volume is the lattice's mass over its area times the thickness (2D: density/t,
+/// the [[material]] density being per unit area of the lattice) or its volume (3D).
+fem::Material continuum(const Table& mat, int dim, double thickness, double diameter) {
+  fem::Material m;
+  const double kn = mat.real("kn"), ks = mat.real("ks");
+  if (mat.has("youngs_modulus")) {
+    m.E = mat.real("youngs_modulus");
+    m.nu = mat.real("poisson_ratio");
+  } else if (dim == 2) {
+    m.E = 2 * std::numbers::sqrt3 * kn * (kn + ks) / (3 * kn + ks) / thickness;
+    m.nu = (kn - ks) / (3 * kn + ks);
+  } else {
+    STRATA_CHECK(diameter > 0, Input,
+                 "{}: material '{}' fills an FEM region of a scene without particles: "
+                 "give it youngs_modulus and poisson_ratio",
+                 mat.where("name").str(), mat.str("name"));
+    m.E = 2 * std::numbers::sqrt2 * kn * (2 * kn + 3 * ks) / (diameter * (4 * kn + ks));
+    m.nu = (kn - ks) / (4 * kn + ks);
+  }
+  m.rho = dim == 2 ? mat.real("density") / thickness : mat.real("density");
+  m.thickness = thickness;
+  m.plane = fem::PlaneMode::Stress;
+  return m;
+}
+
+const Table& material_table(const Scene& sc, const std::string& name) {
+  for (const auto& t : sc.tables("material"))
+    if (t.str("name") == name) return t;
+  fail(ErrorKind::Internal, "material '{}' not found after validation", name);
+}
+
+/// FEM nodes of a group: the candidates (the nodes of the named region, or of every FEM
+/// region) that the selection picks.
+std::vector<std::uint32_t> select_nodes(const Table& g, const preprocess::SimplexMesh& mesh,
+                                        const std::vector<std::uint32_t>& candidates) {
+  const std::string& sel = g.str("select");
+  if (sel == "all") return candidates;
+  if (sel == "box") {
+    const auto lo = vec3(g.reals("box_min")), hi = vec3(g.reals("box_max"));
+    std::vector<std::uint32_t> out;
+    for (auto n : candidates) {
+      const auto x = mesh.node(n);
+      bool in = true;
+      for (int a = 0; a < mesh.dim; ++a) in = in && x[a] >= lo[a] && x[a] <= hi[a];
+      if (in) out.push_back(n);
+    }
+    return out;
+  }
+  int axis = -1, side = 0;
+  if (sel == "top_row") axis = 1, side = 1;
+  if (sel == "bottom_row") axis = 1, side = -1;
+  if (sel == "right_column") axis = 0, side = 1;
+  if (sel == "left_column") axis = 0, side = -1;
+  if (sel == "top_layer") axis = 2, side = 1;
+  if (sel == "bottom_layer") axis = 2, side = -1;
+  if (axis < 0)
+    g.fail("select",
+           fmt::format("select = \"{}\" picks particles; FEM nodes are picked with \"all\", \"box\", "
+                       "\"top_row\", \"bottom_row\", \"left_column\", \"right_column\", \"top_layer\" "
+                       "or \"bottom_layer\" (the nodes on the region's extreme side)",
+                       sel));
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (auto n : candidates) lo = std::min(lo, mesh.node(n)[axis]), hi = std::max(hi, mesh.node(n)[axis]);
+  const double tol = 1e-6 * std::max(hi - lo, 1e-300);
+  std::vector<std::uint32_t> out;
+  for (auto n : candidates) {
+    const double c = mesh.node(n)[axis];
+    if (side > 0 ? c >= hi - tol : c <= lo + tol) out.push_back(n);
+  }
+  return out;
+}
+
+/// Piecewise-linear interpolation of a force history component (constant after the end).
+struct HistoryComponent {
+  std::vector<double> t, f;
+  double operator()(double time) const {
+    if (time <= t.front()) return f.front();
+    if (time >= t.back()) return f.back();
+    const auto k = std::size_t(std::upper_bound(t.begin(), t.end(), time) - t.begin());
+    const double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
+    return f[k - 1] + w * (f[k] - f[k - 1]);
+  }
+};
+
+/// The FEM mesh as libfem's: one block per cell group of `mesh` (in group order), each with
+/// the continuum of its material.
+fem::Mesh fem_mesh_of(const preprocess::SimplexMesh& mesh, const std::vector<fem::Material>& group_material) {
+  fem::Mesh out;
+  out.dim = mesh.dim;
+  for (std::size_t n = 0; n < mesh.node_count(); ++n) out.add_node(mesh.x[n], mesh.y[n], mesh.z[n]);
+  const int npe = mesh.nodes_per_cell();
+  std::vector<fem::ElementBlock> blocks(group_material.size());
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    blocks[b].type = mesh.dim == 2 ? fem::ElementType::Tri3 : fem::ElementType::Tet4;
+    blocks[b].material = group_material[b];
+  }
+  for (std::size_t e = 0; e < mesh.cell_count(); ++e) {
+    auto& conn = blocks[std::size_t(mesh.cell_group[e])].conn;
+    for (int k = 0; k < npe; ++k)
+      conn.push_back(std::int32_t(mesh.cells[e * std::size_t(npe) + std::size_t(k)]));
+  }
+  for (auto& b : blocks)
+    if (!b.conn.empty()) out.blocks.push_back(std::move(b));
+  return out;
+}
+
+/// Merges FEM regions meshed one by one into one mesh with one cell group per region (nodes
+/// are not shared between regions: FEM regions of a scene without particles are separate
+/// bodies unless they come from one geometry file's shared mesh).
+preprocess::SimplexMesh merge_meshes(const std::vector<FemRegion>& regions, int dim) {
+  preprocess::SimplexMesh out;
+  out.dim = dim;
+  for (std::size_t r = 0; r < regions.size(); ++r) {
+    const auto& m = regions[r].mesh;
+    const auto base = std::uint32_t(out.node_count());
+    for (std::size_t n = 0; n < m.node_count(); ++n) out.add_node(m.node(n));
+    for (auto c : m.cells) out.cells.push_back(base + c);
+    out.cell_group.insert(out.cell_group.end(), m.cell_count(), std::int32_t(r));
+    out.group_names.push_back(regions[r].name);
+  }
+  return out;
+}
+
+/// Applies [[group]], [[boundary]] and [[load]] entries to FEM nodes. `region_nodes` maps a
+/// region name to its nodes.
+void fem_conditions(const Scene& sc, const preprocess::SimplexMesh& mesh,
+                    const std::map<std::string, std::vector<std::uint32_t>>& region_nodes,
+                    fem::Solver& solver, BuiltModel& m) {
+  const int dim = mesh.dim;
+  for (const auto& [name, nodes] : region_nodes) m.fem_groups[name] = nodes;
+  std::vector<std::uint32_t> every;
+  for (const auto& [name, nodes] : region_nodes) every.insert(every.end(), nodes.begin(), nodes.end());
+  std::sort(every.begin(), every.end());
+  every.erase(std::unique(every.begin(), every.end()), every.end());
+  for (const auto& g : sc.tables("group")) {
+    const std::string& region = g.str("region");
+    const bool fem_region = region_nodes.count(region) > 0;
+    if (!region.empty() && !fem_region) continue;  // a particle region's group
+    std::vector<std::uint32_t> nodes = select_nodes(g, mesh, fem_region ? region_nodes.at(region) : every);
+    if (nodes.empty() && !m.groups.count(g.str("name")))
+      g.fail("select", fmt::format("group '{}' selects no particle and no FEM node", g.str("name")));
+    if (!nodes.empty()) m.fem_groups[g.str("name")] = std::move(nodes);
+  }
+  for (const auto& b : sc.tables("boundary")) {
+    const auto it = m.fem_groups.find(b.str("group"));
+    if (it == m.fem_groups.end()) continue;
+    const std::string& type = b.str("type");
+    if (type == "step_displacement")
+      b.fail("type",
+             fmt::format("group '{}' holds FEM nodes: a step_displacement boundary moves particles only; "
+                         "use type = \"velocity\" (or \"fixed\") for FEM nodes",
+                         b.str("group")));
+    const unsigned axes = axes_mask(b.strings("axes"), dim);
+    const auto v = type == "velocity" ? vec3(b.reals("velocity")) : std::array<double, 3>{};
+    for (auto n : it->second)
+      for (int a = 0; a < dim; ++a) {
+        if (!(axes >> a & 1u)) continue;
+        const std::size_t d = std::size_t(n) * std::size_t(dim) + std::size_t(a);
+        if (type == "fixed")
+          solver.fix(d);
+        else
+          solver.prescribe(d, 0.0, v[a]);
+      }
+  }
+  for (const auto& l : sc.tables("load")) {
+    const auto it = m.fem_groups.find(l.str("group"));
+    if (it == m.fem_groups.end()) continue;
+    const double share = l.str("per") == "group" ? 1.0 / double(it->second.size()) : 1.0;
+    for (int a = 0; a < dim; ++a) {
+      HistoryComponent h;
+      h.t = l.reals("times");
+      for (const auto& row : l.real_table("forces")) h.f.push_back(share * vec3(row)[a]);
+      if (std::all_of(h.f.begin(), h.f.end(), [](double f) { return f == 0; })) continue;
+      for (auto n : it->second) solver.add_load(std::size_t(n) * std::size_t(dim) + std::size_t(a), h);
+    }
+  }
+}
+
+fem::Scheme scheme_of(const Table& solver, double dt_fem, double explicit_limit) {
+  const std::string& s = solver.str("fem_integrator");
+  if (s != "auto") return fem::scheme_from_string(s);
+  return dt_fem <= explicit_limit ? fem::Scheme::CentralDifference : fem::Scheme::ImplicitNewmark;
+}
+
+/// A model of FEM regions only.
+BuiltModel build_fem_only(const Scene& sc, bool force) {
+  const Table& solver = sc.table("solver");
+  const int dim = int(sc.table("scene").integer("dimension"));
+  const double thickness = sc.table("scene").real("thickness");
+  ModelDescription d = describe_model(sc, /*allow_fem=*/true);
+  BuiltModel m;
+  m.dim = dim;
+  const preprocess::SimplexMesh mesh = merge_meshes(d.fem, dim);
+  std::vector<fem::Material> materials;
+  std::map<std::string, std::vector<std::uint32_t>> region_nodes;
+  for (const auto& r : d.fem) {
+    const fem::Material mat = continuum(material_table(sc, r.material), dim, thickness, 0.0);
+    materials.push_back(mat);
+    m.fem_regions.push_back({r.name, r.mesh.cell_count(), mat.E, mat.nu, mat.rho});
+  }
+  for (std::size_t e = 0; e < mesh.cell_count(); ++e)
+    for (int k = 0; k < mesh.nodes_per_cell(); ++k)
+      region_nodes[d.fem[std::size_t(mesh.cell_group[e])].name].push_back(
+          mesh.cells[e * std::size_t(mesh.nodes_per_cell()) + std::size_t(k)]);
+  for (auto& [name, nodes] : region_nodes) {
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
+  fem::SolverSettings fs;
+  fs.dt = 1.0;  // set below, once the critical step is known
+  fs.allow_unstable = force || solver.boolean("allow_unstable");
+  fs.scheme = fem::Scheme::CentralDifference;
+  auto part = std::make_unique<couple::FemPartition>(fem::Solver(fem_mesh_of(mesh, materials), fs));
+  fem::Solver& s = part->solver();
+  fem_conditions(sc, mesh, region_nodes, s, m);
+
+  m.fem_explicit_dt_crit = s.stability().explicit_dt_crit;
+  m.dt_automatic = solver.real("dt") == 0;
+  const double dt = m.dt_automatic ? solver.real("dt_safety") * m.fem_explicit_dt_crit : solver.real("dt");
+  s.set_scheme(scheme_of(solver, dt, m.fem_explicit_dt_crit));
+  s.set_dt(dt);
+  m.fem_dt_crit = s.stability().dt_crit;
+  m.dt_crit = m.fem_dt_crit;
+  if (dt > m.fem_dt_crit && !fs.allow_unstable)
+    solver.fail("dt",
+                fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the FEM regions with "
+                            "the {} integrator (dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= "
+                            "{:.4g} s, fem_integrator = \"implicit-newmark\" (unconditionally stable), or "
+                            "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
+                            dt, m.fem_dt_crit, fem::to_string(s.settings().scheme), dt / m.fem_dt_crit,
+                            m.fem_dt_crit, solver.real("dt_safety")));
+  s.initialise();
+  m.dt = dt;
+  m.steps = step_count_of(solver, m.dt, 1);
+  m.fem_partition_ = std::move(part);
+  return m;
+}
+
+/// The coupling's copies in libcouple's terms: per axis, DOF i·dim + a of a target takes
+/// the weighted sum of the same axis of its sources. Particle sources and targets are the
+/// overlap's particle indices, mapped to particle ids.
+couple::Overlap coupling_links(const preprocess::OverlapModel& ov,
+                               const std::vector<std::uint32_t>& particle_id, int dim) {
+  couple::Overlap out;
+  const auto D = std::size_t(dim);
+  auto expand = [&](const preprocess::OverlapLinks& in, bool from_particles,
+                    std::vector<couple::Link>& links) {
+    for (std::size_t k = 0; k < in.size(); ++k)
+      for (std::size_t a = 0; a < D; ++a) {
+        couple::Link l{};
+        const std::size_t to = from_particles ? in.target[k] : particle_id[in.target[k]];
+        l.to = to * D + a;
+        const std::uint32_t j0 = in.first[k], j1 = in.first[k + 1];
+        for (std::uint32_t j = j0; j < j1; ++j) {
+          const std::size_t src = from_particles ? particle_id[in.source[j]] : in.source[j];
+          l.sources.push_back(src * D + a);
+          l.weight.push_back(in.weight[j]);
+        }
+        l.from = l.sources.front();
+        if (j1 - j0 == 1 && in.weight[j0] == 1.0) l.sources.clear(), l.weight.clear();  // a copy
+        links.push_back(std::move(l));
+      }
+  };
+  expand(ov.fem_to_dem, /*from_particles=*/false, out.fem_to_dem);
+  expand(ov.dem_to_fem, /*from_particles=*/true, out.dem_to_fem);
+  return out;
+}
+
+/// Particle regions coupled with FEM regions through the overlap layers of one geometry file.
+BuiltModel build_coupled(const Scene& sc, bool force) {
+  const Table& solver = sc.table("solver");
+  const int dim = int(sc.table("scene").integer("dimension"));
+  const double thickness = sc.table("scene").real("thickness");
+
+  // Every region of a coupled scene comes from one geometry file, with one lattice.
+  std::vector<std::string> particle_names, fem_names;
+  const Table* first_particles = nullptr;
+  std::string file;
+  double far_size = 0;
+  for (const auto& r : sc.tables("region")) {
+    const bool particles = r.str("kind") == "particles";
+    if (r.str("shape") != "file")
+      r.fail("shape",
+             fmt::format("region '{}': a scene with particle and FEM regions couples them through the "
+                         "interfaces of one geometry file; every region must be shape = \"file\" "
+                         "(allowed: a physical group of the geometry file)",
+                         r.str("name")));
+    if (file.empty()) file = r.str("file");
+    if (r.str("file") != file)
+      r.fail("file", fmt::format("region '{}' is in {}, the first region in {}: the particle and FEM regions "
+                                 "of a coupled scene must come from one geometry file",
+                                 r.str("name"), r.str("file"), file));
+    if (particles) {
+      if (!first_particles) first_particles = &r;
+      if (r.real("diameter") != first_particles->real("diameter") ||
+          r.str("lattice") != first_particles->str("lattice") ||
+          r.real("orientation") != first_particles->real("orientation"))
+        r.fail("diameter",
+               fmt::format("region '{}': the particle regions of a coupled scene share one lattice "
+                           "(diameter, lattice and orientation of region '{}')",
+                           r.str("name"), first_particles->str("name")));
+      if (r.str("eccentricity") != "none")
+        r.fail("eccentricity",
+               "eccentric particle regions cannot be coupled with FEM regions yet (allowed: "
+               "eccentricity = \"none\")");
+      particle_names.push_back(r.str("physical"));
+    } else {
+      fem_names.push_back(r.str("physical"));
+      far_size = std::max(far_size, r.real("mesh_size"));
+    }
+  }
+  const Table& pr = *first_particles;
+  preprocess::OverlapOptions oo;
+  std::string lattice = pr.str("lattice");
+  if (lattice == "auto") lattice = dim == 2 ? "hex" : "hcp";
+  oo.kind = lattice == "hex"   ? preprocess::LatticeKind::Hex2D
+            : lattice == "hcp" ? preprocess::LatticeKind::HCP
+                               : preprocess::LatticeKind::FCC;
+  oo.d = pr.real("diameter");
+  oo.far_size = far_size;
+  oo.orientation_deg = pr.real("orientation");
+  preprocess::OverlapModel ov;
+  try {
+    ov = preprocess::build_coupled_model(file, particle_names, fem_names, oo);
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Input) throw;
+    pr.fail("file", e.what());  // the geometry's problem, at the scene line that names it
+  }
+
+  // Particles: the overlap's, region by region, then the band ("overlap", DEM externals).
+  ModelDescription d = describe_model(sc, /*allow_fem=*/true, &ov);
+  const std::vector<std::uint32_t> particle_id = d.overlap_particle_id;
+  BuiltModel m;
+  m.dim = dim;
+  m.eta = int(solver.integer("eta"));
+  m.execution_mode =
+      solver.str("coupling") == "parallel" ? couple::Execution::Parallel : couple::Execution::Serial;
+  dem::Settings ds = dem_settings(sc, force);
+  ds.dt = std::numeric_limits<double>::min();  // set below, once the critical steps are known
+  dem::Simulation sim(dim, ds);
+  populate_particles(sc, d, sim, m);
+  d = ModelDescription{};
+
+  // FEM: the FEM regions' elements and the overlap rings, each with its material's continuum.
+  std::vector<fem::Material> group_material;
+  std::map<std::string, std::vector<std::uint32_t>> region_nodes;
+  std::map<std::string, std::string> material_of;  // physical group -> material
+  std::map<std::string, std::string> name_of;      // physical group -> region name
+  for (const auto& r : sc.tables("region"))
+    material_of[r.str("physical")] = r.str("material"), name_of[r.str("physical")] = r.str("name");
+  std::vector<std::size_t> group_elements(ov.fem.group_names.size(), 0);
+  for (auto g : ov.fem.cell_group) ++group_elements[std::size_t(g)];
+  for (std::size_t g = 0; g < ov.fem.group_names.size(); ++g) {
+    std::string physical = ov.fem.group_names[g];
+    const bool ring = physical.size() > 5 && physical.ends_with(":ring");
+    if (ring) physical.resize(physical.size() - 5);
+    const fem::Material mat = continuum(material_table(sc, material_of.at(physical)), dim, thickness, oo.d);
+    group_material.push_back(mat);
+    m.fem_regions.push_back({ring ? name_of.at(physical) + ":ring" : name_of.at(physical), group_elements[g],
+                             mat.E, mat.nu, mat.rho});
+  }
+  const int npe = ov.fem.nodes_per_cell();
+  for (std::size_t e = 0; e < ov.fem.cell_count(); ++e) {
+    const std::string& group = m.fem_regions[std::size_t(ov.fem.cell_group[e])].name;
+    if (group.ends_with(":ring")) continue;
+    for (int k = 0; k < npe; ++k)
+      region_nodes[group].push_back(ov.fem.cells[e * std::size_t(npe) + std::size_t(k)]);
+  }
+  for (auto& [name, nodes] : region_nodes) {
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
+  fem::SolverSettings fs;
+  fs.dt = double(m.eta) * ds.dt;
+  fs.allow_unstable = ds.allow_unstable;
+  fs.scheme = fem::Scheme::CentralDifference;
+  fem::Solver fem_solver(fem_mesh_of(ov.fem, group_material), fs);
+  fem_conditions(sc, ov.fem, region_nodes, fem_solver, m);
+  for (std::size_t n = 0; n < ov.node_tag.size(); ++n)
+    m.overlap_nodes += ov.node_tag[n] == preprocess::OverlapTag::External;
+  for (auto t : ov.particle_tag) m.overlap_particles += t == preprocess::OverlapTag::External;
+
+  m.dem_partition_ = std::make_unique<couple::DemPartition>(std::move(sim), "DEM");
+  m.fem_partition_ = std::make_unique<couple::FemPartition>(std::move(fem_solver), "FEM");
+  m.coupler_ = std::make_unique<couple::Coupler>(
+      *m.fem_partition_, *m.dem_partition_, coupling_links(ov, particle_id, dim), m.eta, m.execution_mode);
+  // The limits, with the externals of each side held: the DEM step from the particles, the
+  // FEM step η·dt from the FEM integrator (central difference while it is stable, implicit
+  // Newmark above its limit, unless fem_integrator says otherwise).
+  m.fem_partition_->prepare();
+  m.dem_partition_->prepare();
+  dem::Simulation& s = m.sim();
+  fem::Solver& f = m.fem();
+  m.dt_crit = s.critical_dt();
+  m.fem_explicit_dt_crit = f.stability().explicit_dt_crit;
+  m.dt_automatic = solver.real("dt") == 0;
+  const double eta = double(m.eta);
+  double dt = solver.real("dt");
+  if (m.dt_automatic) {
+    dt = solver.real("dt_safety") * m.dt_crit;
+    if (solver.str("fem_integrator") != "auto" &&
+        fem::is_explicit(fem::scheme_from_string(solver.str("fem_integrator"))))
+      dt = std::min(dt, solver.real("dt_safety") * m.fem_explicit_dt_crit / eta);
+  }
+  if (dt > m.dt_crit && !ds.allow_unstable)
+    solver.fail("dt",
+                fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the particles (the "
+                            "overlap's external particles held; dt/dt_crit = {:.3f}); the run would blow up. "
+                            "Allowed: dt <= {:.4g} s, or dt = 0 for {} x dt_crit; solver.allow_unstable = "
+                            "true or --force runs anyway",
+                            dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
+  f.set_scheme(scheme_of(solver, eta * dt, m.fem_explicit_dt_crit));
+  f.set_dt(eta * dt);
+  m.fem_dt_crit = f.stability().dt_crit;
+  if (eta * dt > m.fem_dt_crit && !ds.allow_unstable)
+    solver.fail("eta",
+                fmt::format("the FEM step eta x dt = {} x {:.4g} s = {:.4g} s exceeds the limit {:.4g} s of "
+                            "the {} integrator (the overlap's external nodes held); allowed: eta <= {}, or "
+                            "fem_integrator = \"implicit-newmark\" (or \"auto\", which takes it above the "
+                            "explicit limit)",
+                            m.eta, dt, eta * dt, m.fem_dt_crit, fem::to_string(f.settings().scheme),
+                            std::max(1, int(std::floor(m.fem_dt_crit / dt)))));
+  s.set_dt(dt);
+  m.coupler_->initialise(ds.allow_unstable);
+  m.dt = dt;
+  m.steps = step_count_of(solver, m.dt, m.eta);
+  return m;
+}
+}  // namespace
+
+BuiltModel build_fem_model(const Scene& sc, bool force) {
+  bool any_particles = false;
+  for (const auto& r : sc.tables("region")) any_particles |= r.str("kind") == "particles";
+  if (!any_particles) return build_fem_only(sc, force);
+  return build_coupled(sc, force);
+}
+
+}  // namespace strata::scene

@@ -1,0 +1,43 @@
+#pragma once
+// Internal: the pieces of the model builder that its files share (model.cpp builds the
+// particles, fem_model.cpp the FEM side and the coupling).
+#include <strata/dem/simulation.hpp>
+#include <strata/scene/model.hpp>
+#include <strata/scene/scene.hpp>
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace strata::scene {
+
+inline int axis_index(const std::string& a) { return a == "x" ? 0 : a == "y" ? 1 : 2; }
+
+inline unsigned axes_mask(const std::vector<std::string>& axes, int dim) {
+  unsigned m = 0;
+  for (const auto& a : axes) m |= 1u << axis_index(a);
+  return m & (dim == 2 ? dem::kXY : dem::kXYZ);
+}
+
+inline std::array<double, 3> vec3(const std::vector<double>& v) {
+  std::array<double, 3> out{0, 0, 0};
+  for (std::size_t a = 0; a < v.size() && a < 3; ++a) out[a] = v[a];
+  return out;
+}
+
+/// The DEM settings of a scene's [solver] (dt as given; allow_unstable with `force`).
+dem::Settings dem_settings(const Scene& sc, bool force);
+
+/// Adds the described particles to `sim` with their materials, groups, bonds, boundary
+/// conditions, loads and walls (those on particle groups), and records regions and groups
+/// in `m`. `d` gives up its eccentric bond lists.
+void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& sim, BuiltModel& m);
+
+/// solver.steps, or solver.duration / dt, rounded up to a multiple of `quantum`.
+std::int64_t step_count_of(const Table& solver, double dt, int quantum);
+
+/// A model with FEM regions: FEM alone, or coupled with the particle regions through the
+/// overlap layers (fem_model.cpp).
+BuiltModel build_fem_model(const Scene& sc, bool force);
+
+}  // namespace strata::scene

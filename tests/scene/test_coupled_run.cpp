@@ -1,0 +1,129 @@
+// Scenes with FEM and particle regions from one geometry file run through the one run path
+// (scene::Run): both parts in one series, restart bit for bit, serial == parallel coupling.
+#include <gtest/gtest.h>
+#include <strata/config.hpp>
+#include <strata/core/parallel.hpp>
+#include <strata/scene/run.hpp>
+#include <strata/scene/scene.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+using strata::scene::RunObserver;
+using strata::scene::RunStatus;
+
+namespace {
+
+const fs::path kTunnel = fs::path(STRATA_SOURCE_DIR) / "examples" / "05_tunnel" / "quick.toml";
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("strata_coupled_run_" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+nlohmann::json summary(const fs::path& dir) {
+  std::ifstream f(dir / "summary.json");
+  return nlohmann::json::parse(f);
+}
+
+/// Runs the quick tunnel with `overrides` into `dir` (no pictures: this is about the state).
+strata::scene::RunResult run_tunnel(const fs::path& dir, std::vector<std::string> overrides,
+                                    const fs::path& restart = {}) {
+  overrides.push_back("output.render=false");
+  const auto sc = strata::scene::load(kTunnel, overrides);
+  strata::scene::Run run(sc, {dir, false, restart});
+  RunObserver quiet;
+  return run.execute(quiet);
+}
+
+}  // namespace
+
+TEST(CoupledRun, TunnelSceneWritesParticlesAndFemIntoOneSeries) {
+  const fs::path dir = fresh_dir("series");
+  const auto r = run_tunnel(dir, {"solver.steps=400", "output.frames=2"});
+  EXPECT_EQ(r.status, RunStatus::Completed);
+  EXPECT_EQ(r.step, 400);
+  EXPECT_TRUE(fs::exists(dir / "particles.pvd"));
+  EXPECT_TRUE(fs::exists(dir / "fem.pvd"));
+  const auto j = summary(dir);
+  EXPECT_EQ(j["status"], "completed");
+  EXPECT_EQ(j["eta"], 4);
+  EXPECT_GT(j["particles"].get<std::size_t>(), 700u);
+  EXPECT_GT(j["fem_elements"].get<std::size_t>(), 1000u);
+  // η·dt is above the FEM's explicit limit, so "auto" chose the implicit Newmark.
+  EXPECT_EQ(j["fem_integrator"], "implicit-newmark");
+  // The FEM frames and the particle frames are at the same times (3 each: t = 0 and 2 more).
+  std::ifstream pvd(dir / "fem.pvd");
+  const std::string text((std::istreambuf_iterator<char>(pvd)), {});
+  std::size_t frames = 0;
+  for (std::size_t at = text.find("<DataSet"); at != std::string::npos; at = text.find("<DataSet", at + 1))
+    ++frames;
+  EXPECT_EQ(frames, 3u);
+}
+
+TEST(CoupledRun, SerialAndParallelCouplingGiveTheSameBits) {
+  strata::par::set_threads(1);
+  const fs::path a = fresh_dir("serial"), b = fresh_dir("parallel");
+  run_tunnel(a, {"solver.steps=200", "output.frames=0", "solver.coupling=\"serial\""});
+  run_tunnel(b, {"solver.steps=200", "output.frames=0", "solver.coupling=\"parallel\""});
+  EXPECT_EQ(summary(a)["state_hash"], summary(b)["state_hash"]);
+  EXPECT_EQ(summary(b)["coupling"], "parallel");
+}
+
+TEST(CoupledRun, RestartFromACheckpointContinuesBitForBit) {
+  if (!STRATA_WITH_HDF5) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
+  const fs::path straight = fresh_dir("straight"), split = fresh_dir("split");
+  run_tunnel(straight, {"solver.steps=400", "output.frames=0"});
+  run_tunnel(split, {"solver.steps=200", "output.frames=0"});
+  const auto r = run_tunnel(split, {"solver.steps=400", "output.frames=0"}, split / "checkpoint.h5");
+  EXPECT_EQ(r.first_step, 200);
+  EXPECT_EQ(r.step, 400);
+  EXPECT_EQ(summary(split)["state_hash"], summary(straight)["state_hash"]);
+}
+
+TEST(CoupledRun, FemOnlySceneMovesItsLoadedSideAtTheGivenVelocity) {
+  // The far field alone (the tunnel's FEM region, the hole now an empty disk of radius Rp):
+  // the top nodes move at the prescribed velocity, everything stays finite.
+  const fs::path dir = fresh_dir("fem_only");
+  const fs::path scene = dir.string() + ".toml";
+  {
+    std::ifstream in(kTunnel);
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    const auto a = text.find("[[region]]\nname = \"near\"");
+    const auto b = text.find("[[region]]\nname = \"far\"");
+    ASSERT_NE(a, std::string::npos);
+    ASSERT_NE(b, std::string::npos);
+    text.erase(a, b - a);
+    const auto g = text.find("[[group]]");
+    text.insert(g, "[probe]\ngauges = [\"top\"]\n\n");
+    std::string geo = (kTunnel.parent_path() / "tunnel.geo").string();
+    for (std::size_t at = text.find("\"tunnel.geo\""); at != std::string::npos;
+         at = text.find("\"tunnel.geo\"", at))
+      text.replace(at, 12, "\"" + geo + "\""), at += geo.size() + 2;
+    std::ofstream(scene) << text;
+  }
+  const auto sc = strata::scene::load(scene, {"solver.steps=50", "output.frames=0", "output.render=false"});
+  strata::scene::Run run(sc, {dir, false, {}});
+  RunObserver quiet;
+  const auto r = run.execute(quiet);
+  EXPECT_EQ(r.status, RunStatus::Completed);
+  ASSERT_TRUE(run.model().has_fem());
+  EXPECT_FALSE(run.model().has_particles());
+  // Last probe row: the top gauge's uy is -0.5 m/s × t (prescribed exactly).
+  std::ifstream probes(dir / "probes.csv");
+  std::string line, last;
+  while (std::getline(probes, line))
+    if (!line.empty()) last = line;
+  std::vector<double> v;
+  std::stringstream ss(last);
+  for (std::string cell; std::getline(ss, cell, ',');) v.push_back(std::stod(cell));
+  ASSERT_GE(v.size(), 2u);
+  EXPECT_NEAR(v.back(), -0.5 * v[1], 1e-12 * 0.5 * v[1] + 1e-18);
+}
