@@ -1,4 +1,4 @@
-// Overlap layers between a particle box and an FEM box (SPEC C3, docs/preprocess.md).
+// Overlap layers between a particle box and an FEM box: the box path (docs/preprocess.md).
 #include <gtest/gtest.h>
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>

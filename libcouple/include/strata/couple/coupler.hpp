@@ -6,7 +6,7 @@
 ///   lying inside the other side's domain. One system step = one FEM step of η·dt_DEM = η DEM
 ///   steps. At the start of every system step both sides transfer displacement and velocity:
 ///   X_E(DEM) = Σ w·X_B(FEM),  X_E(FEM) = Σ w·X_B(DEM), each external DOF a weighted sum of
-///   the other side's boundary DOFs (Link terms). During the step each side moves its
+///   the other side's boundary DOFs (one Link per external DOF). During the step each side moves its
 ///   external DOFs with the transferred velocity (u_E(t) = u_E + v_E·(t − t_n)), then both
 ///   advance from the same transferred state.
 ///
