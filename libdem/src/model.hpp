@@ -1,49 +1,32 @@
 #pragma once
 // Internal: the structure-of-arrays DEM model, templated on the dimension D (2 or 3).
 // The public front end is strata::dem::Simulation (simulation.hpp), which forwards to
-// ModelBase; virtual calls happen per API call, never per pair.
-#include "strata/dem/simulation.hpp"
+// ModelBase; virtual calls happen per API call, never per pair. The pair law's part (the
+// step kernel and the probes that evaluate pair forces) is a LawEngine chosen at set-up.
+//
+// Model<D>'s members are defined by responsibility, each file with its explicit
+// instantiations for D = 2 and 3:
+//   model.cpp        particle storage, ids and groups, spatial (Morton) order, read access
+//   search.cpp       cell grid, bonding, the Verlet contact list, the thread plan
+//   boundary.cpp     boundary conditions, force histories, driven particles
+//   run.cpp          choice of the pair law, initialise(), the run loop, blow-up checks
+//   critical_dt.cpp  critical time step: rigorous bound and Lanczos estimate
+//   probes.cpp       energies, work, forces on groups, break and contact counts
+//   state.cpp        checkpoints (save/load) and the state hash
+// The step kernel itself is strata/dem/detail/step_kernel.hpp, compiled in step.cpp.
+#include <strata/core/parallel.hpp>
+#include <strata/dem/detail/law_engine.hpp>
+#include <strata/dem/detail/model_data.hpp>
+#include <strata/dem/simulation.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace strata::dem::detail {
-
-inline constexpr std::uint32_t kNone = 0xffffffffu;
-/// Particles per accumulator block: energy/work sums are formed per block and added in
-/// block order, so they do not depend on the thread count. Thread ranges are whole blocks.
-inline constexpr std::ptrdiff_t kBlock = 256;
-
-/// Bonds or contacts stored CSR by owner: the pairs (i, j > i) of owner i are
-/// off[i] .. off[i+1]-1, sorted by j; i is implied.
-struct PairList {
-  std::vector<std::uint32_t> off{0};
-  std::vector<std::uint32_t> j;
-  std::vector<std::uint8_t> st;
-  std::vector<double> us;  // NS shear components per pair
-  // Bonds of eccentric lattices only (empty otherwise): rest length (the initial centre
-  // distance) and stiffness factor of each bond; both apply while the bond is intact.
-  std::vector<double> r0, kf;
-  std::size_t size() const { return j.size(); }
-  std::size_t bytes() const {
-    return off.capacity() * 4 + j.capacity() * 4 + st.capacity() +
-           (us.capacity() + r0.capacity() + kf.capacity()) * 8;
-  }
-};
-
-/// Boundary condition of one particle (only particles with a condition have one).
-struct BcParticle {
-  std::uint32_t index = 0;  // internal index
-  std::uint8_t mode[3]{};   // 0 free, 1 fixed, 2 velocity, 3 step displacement
-  double value[3]{};        // velocity (mode 2) or increment (mode 3)
-  std::int64_t every[3]{};  // steps between increments (mode 3)
-  int history = -1;         // force history index
-  double dx_prev[3]{};      // last step's displacement (trapezoid work)
-  double f_int[3]{};        // last internal force
-  double w_ahead = 0;       // work booked for the half interval after the last step
-};
 
 struct BcSpec {
   enum Kind { Fix, Velocity, StepDisp, Force } kind;
@@ -58,19 +41,6 @@ struct ForceHistory {
   std::vector<double> t;
   std::vector<std::array<double, 3>> f;
   std::array<double, 3> at(double time) const;
-};
-
-struct Wall {
-  double p[3], n[3], v[3], k;
-};
-
-/// Per-block accumulators (padded to a cache line).
-struct alignas(64) BlockAcc {
-  double work = 0;        // prescribed motion, applied forces, walls (accumulated)
-  double dissipated = 0;  // damping (accumulated)
-  double ke = 0;          // kinetic energy at the last energy step
-  double eb = 0;          // pair + wall energy at the last energy step
-  double vmax2 = 0;       // largest |v|² in the last step
 };
 
 /// The run state of a Model<D>, by reference, for checkpoints (state.cpp). Together with
@@ -170,5 +140,180 @@ class ModelBase {
 
 template <int D>
 std::unique_ptr<ModelBase> make_model(const Settings& s);
+
+/// Pair rule: the combined material of a pair of materials a and b (the same material
+/// gives its own values; two give harmonic-mean stiffnesses, as springs in series scaled so
+/// that equal materials give back their own, the weaker strengths and the smaller friction).
+Material pair_material(const Material& a, const Material& b);
+
+/// The DEM model of dimension D: ModelData<D>'s arrays plus set-up and run state.
+template <int D>
+class Model final : public ModelBase, public ModelData<D> {
+ public:
+  using Data = ModelData<D>;
+  using Data::acc;
+  using Data::bcp;
+  using Data::bond_owner;
+  using Data::bonds;
+  using Data::contacts;
+  using Data::cross_b;
+  using Data::cross_c;
+  using Data::dist2;
+  using Data::evbuf;
+  using Data::f;
+  using Data::flags;
+  using Data::grp;
+  using Data::id;
+  using Data::im;
+  using Data::kNs;
+  using Data::mat;
+  using Data::n;
+  using Data::plan;
+  using Data::rad;
+  using Data::rest_of;
+  using Data::scaled;
+  using Data::scratch;
+  using Data::uniform_diameter;
+  using Data::v;
+  using Data::wall_energy_and_force;
+  using Data::x;
+  using Data::x0;
+
+  explicit Model(const Settings& s) { settings = s; }
+
+  // ---- set-up state --------------------------------------------------------------------
+  mutable std::vector<std::uint32_t> inv_cache;  // id -> internal index (built on demand)
+  std::unique_ptr<LawEngine<D>> engine;          // the pair law's kernels (refresh_laws)
+  std::vector<PairStiffness> stiff;              // nmat × nmat stiffnesses of the pair laws
+  int nmat = 0;
+  bool sorted = false, initialised = false, bcs_dirty = true;
+  double dt_crit = 0, lam_est = 0, lam_bound = 0;
+
+  // ---- run state -------------------------------------------------------------------------
+  std::int64_t step_ = 0, last_good = 0;
+  double time_ = 0;
+  bool energy_valid = false;  // acc[].ke/eb are from the last step
+  double energy_budget0 = 0, energy_tiny = 0;
+  bool budget_dirty = false;  // velocities were set after initialise()
+  bool contacts_on = false;
+  double skin = 0, disp_bound = 0;
+  std::vector<BreakEvent> events;
+  bool plan_dirty = true;
+
+  int dim() const override { return D; }
+
+  /// Small models stay on one thread in set-up loops (a parallel region costs more than it
+  /// saves there, and much more on a loaded machine).
+  bool small_model() const {
+    return static_cast<std::ptrdiff_t>(n()) < 2 * std::max(1, settings.min_particles_per_thread);
+  }
+
+  /// parallel_for for set-up loops (one thread for small models).
+  template <typename F>
+  void for_range(std::ptrdiff_t count, F&& fn) const {
+    if (small_model()) {
+      for (std::ptrdiff_t i = 0; i < count; ++i) fn(i);
+    } else {
+      par::parallel_for(count, std::forward<F>(fn));
+    }
+  }
+
+  // ---- storage and spatial order (model.cpp) ---------------------------------------------
+  void reserve(std::size_t cap) override;
+  std::size_t add_particle(std::array<double, 3> p, double r, int m, std::uint32_t g, double mass) override;
+  std::size_t particle_count() const override { return n(); }
+  std::vector<std::uint32_t> index_of_id() const;
+  std::size_t index_of(std::size_t ident, const char* what) const;
+  void set_velocity(std::size_t ident, std::array<double, 3> vel) override;
+  void add_group_bits(const std::vector<std::uint32_t>& ids, std::uint32_t mask) override;
+  std::vector<std::uint32_t> members(std::uint32_t mask) const override;
+  void bcs_changed() override { bcs_dirty = true; }
+  void sort_particles();
+  std::vector<std::array<double, 3>> pack(const std::array<std::vector<double>, D>& a) const;
+  std::vector<std::array<double, 3>> positions() const override { return pack(x); }
+  std::vector<std::array<double, 3>> velocities() const override { return pack(v); }
+  std::vector<std::array<double, 3>> displacements() const override;
+  std::vector<double> radii() const override { return rad; }
+  std::vector<std::uint32_t> ids() const override { return id; }
+  std::vector<std::uint32_t> group_bits() const override { return grp; }
+  std::vector<float> damage() const override;
+  std::size_t memory_bytes() const override;
+
+  // ---- neighbour search, bonds, contacts, thread plan (search.cpp) -----------------------
+  /// Cell grid over the particles: cell side h >= the largest search distance.
+  struct Grid {
+    double lo[3]{}, h = 1;
+    std::int64_t dims[3]{1, 1, 1};
+    std::vector<std::uint32_t> start, list;
+    std::int64_t cell_of(const double* p) const;
+  };
+  Grid build_grid(double h) const;
+  template <typename Fn>
+  void for_neighbours(const Grid& g, std::size_t p, Fn&& fn) const;
+  template <typename Accept>
+  PairList build_pairs(const Grid& g, Accept&& accept) const;
+  void bond_touching_pairs(double tol) override;
+  void set_bonds(const std::vector<std::uint32_t>& bi, const std::vector<std::uint32_t>& bj,
+                 const std::vector<double>& factor) override;
+  bool bonded(std::size_t p, std::uint32_t q) const;
+  void rebuild_contacts();
+  int effective_threads(int nt) const;
+  void build_plan(int nt);
+
+  // ---- boundary conditions and driven particles (boundary.cpp) ---------------------------
+  void resolve_bcs();
+  void set_kinematics(std::size_t ident, const std::array<double, 3>& u,
+                      const std::array<double, 3>& vel) override;
+  void kinematics(std::size_t ident, std::array<double, 3>& u, std::array<double, 3>& vel) const override;
+
+  // ---- pair law, set-up and run loop (run.cpp) ---------------------------------------------
+  void refresh_laws();
+  void initialise() override;
+  void check_dt() override;
+  StepCtx step_context() const;
+  void run(std::int64_t steps, bool energies_at_end) override;
+  void check_blowup(bool nan_seen);
+  void merge_events();
+  std::int64_t step_count() const override { return step_; }
+  double time() const override { return time_; }
+  std::int64_t last_good_step() const override { return last_good; }
+
+  // ---- critical time step (critical_dt.cpp) ----------------------------------------------
+  PairStiffness stiffness_of(const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const;
+  template <typename Fn>
+  void stiff_pairs_of(std::size_t p, Fn&& fn) const;
+  void unit_normal(std::size_t p, std::uint32_t j, double nv[D]) const;
+  void pair_matrix(std::size_t p, std::uint32_t j, const PairStiffness& k, double K[D][D]) const;
+  void compute_critical_dt();
+  double max_stiffness() const;
+  double lanczos() const;
+  template <typename F>
+  void for_chunks(std::ptrdiff_t nc, F&& fn) const;
+  template <typename Real>
+  double lanczos_impl() const;
+  double critical_dt() const override { return dt_crit; }
+  double lambda_bound() const override { return lam_bound; }
+  double lambda_estimate() const override { return lam_est; }
+
+  // ---- probes (probes.cpp) ---------------------------------------------------------------
+  double dry_bond_energy() const;
+  double dry_kinetic() const;
+  std::array<double, 3> group_force(std::uint32_t mask) const override;
+  double kinetic_energy() const override;
+  double bond_energy() const override;
+  double external_work() const override;
+  double damping_dissipation() const override;
+  std::size_t broken_count(int mode) const override;
+  std::size_t bond_count() const override { return bonds.size(); }
+  std::size_t contact_count() const override;
+  const std::vector<BreakEvent>& breaks() const override { return events; }
+  std::vector<std::array<std::uint32_t, 2>> touching_pairs() const override;
+  std::vector<PairView> pairs(bool want_bonds) const override;
+
+  // ---- checkpoints and state hash (state.cpp) --------------------------------------------
+  std::uint64_t state_hash() const override;
+  StateRefs state_refs() override;
+  void state_loaded() override;
+};
 
 }  // namespace strata::dem::detail

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace strata::dem {
 
@@ -28,6 +29,14 @@ int Simulation::add_material(const Material& m) {
   STRATA_CHECK(m.friction >= 0, Input, "material friction = {} must be >= 0", m.friction);
   STRATA_CHECK(m.tensile_strength >= 0, Input, "tensile_strength = {} must be >= 0 (N)", m.tensile_strength);
   STRATA_CHECK(m.shear_strength >= 0, Input, "shear_strength = {} must be >= 0 (N)", m.shear_strength);
+  if (!detail::find_law(m.law)) {
+    std::string known;
+    for (const LawInfo& l : available_laws()) known += (known.empty() ? "" : ", ") + std::string(l.name);
+    fail(ErrorKind::Input, "material law '{}' is not a known pair law (known: {})", m.law, known);
+  }
+  STRATA_CHECK(m_->materials.empty() || m_->materials[0].law == m.law, Input,
+               "material law '{}': this model's materials use '{}' (one law per model)", m.law,
+               m_->materials[0].law);
   m_->materials.push_back(m);
   return static_cast<int>(m_->materials.size()) - 1;
 }

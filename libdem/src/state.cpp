@@ -1,4 +1,4 @@
-// Checkpoints of the DEM: Simulation::save_state / load_state.
+// Checkpoints of the DEM: Simulation::save_state / load_state, and the state hash.
 //
 // One description of the state (describe() below) drives both directions, so what is saved
 // and what is loaded cannot drift apart. Everything a later step reads is stored as it is in
@@ -27,10 +27,12 @@ using detail::PairList;
 using detail::StateRefs;
 using detail::Wall;
 
-/// Version of the layout below; a change of layout must raise it.
-constexpr std::int64_t kFormat = 1;
+// Version of the layout below; a change of layout must raise it. Format 1 had no pair-law
+// names (all its materials use solid_lattice); it is still read.
+constexpr std::int64_t kFormat = 2;
+constexpr std::int64_t kOldestFormat = 1;
 
-/// How a member of type T is stored: bool as uint8, int and enums as int64.
+// How a member of type T is stored: bool as uint8, int and enums as int64.
 template <typename T>
 auto stored_tag() {
   if constexpr (std::is_enum_v<T> || std::is_same_v<T, int>)
@@ -45,7 +47,7 @@ auto stored_tag() {
 template <typename T>
 using Stored = decltype(stored_tag<T>());
 
-/// Number of elements of a member: C arrays and std::array have several, scalars one.
+// Number of elements of a member: C arrays and std::array have several, scalars one.
 template <typename M>
 struct Extent {
   using Elem = M;
@@ -65,11 +67,12 @@ struct Extent<std::array<E, N>> {
   static Elem& at(std::array<E, N>& m, std::size_t k) { return m[k]; }
 };
 
-/// Writes the state described by describe().
+// Writes the state described by describe().
 struct Saver {
   static constexpr bool kLoading = false;
   StateWriter& w;
 
+  bool has(const std::string&) const { return true; }
   template <typename T>
   void scalar(const std::string& name, T& value) {
     w.put_scalar<Stored<T>>("dem/" + name, static_cast<Stored<T>>(value));
@@ -88,7 +91,7 @@ struct Saver {
     w.put("dem/" + name + "/length", len);
     w.put_string("dem/" + name + "/text", all);
   }
-  /// Rows of a struct stored as one array per member ("columns").
+  // Rows of a struct stored as one array per member ("columns").
   template <typename S, typename Fn>
   void table(const std::string& name, std::vector<S>& rows, Fn&& columns) {
     w.put_scalar<std::int64_t>("dem/" + name + "/count", static_cast<std::int64_t>(rows.size()));
@@ -105,11 +108,12 @@ struct Saver {
   }
 };
 
-/// Reads the state described by describe(), checking element types and counts.
+// Reads the state described by describe(), checking element types and counts.
 struct Loader {
   static constexpr bool kLoading = true;
   const StateReader& r;
 
+  bool has(const std::string& name) const { return r.has("dem/" + name); }
   template <typename T>
   void scalar(const std::string& name, T& value) {
     value = static_cast<T>(r.get_scalar<Stored<T>>("dem/" + name));
@@ -156,7 +160,7 @@ void pair_list(Io& io, const std::string& name, PairList& L) {
   io.vec(name + "/stiffness_factor", L.kf);
 }
 
-/// The whole state, in one place for both directions.
+// The whole state, in one place for both directions.
 template <typename Io>
 void describe(Io& io, ModelBase& m, const StateRefs& s) {
   // settings (min_particles_per_thread is a performance knob that does not change results)
@@ -186,6 +190,18 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
     col("shear_strength", &Material::shear_strength);
     col("friction_strengthens_bonds", &Material::friction_strengthens_bonds);
   });
+  // pair law of each material, by name (absent from format 1: solid_lattice)
+  std::vector<std::string> law_names;
+  for (const Material& mt : m.materials) law_names.push_back(mt.law);
+  if (io.has("material_laws/text")) {
+    io.strings("material_laws", law_names);
+    if constexpr (Io::kLoading) {
+      STRATA_CHECK(law_names.size() == m.materials.size(), IO,
+                   "state 'dem/material_laws': {} names for {} materials", law_names.size(),
+                   m.materials.size());
+      for (std::size_t k = 0; k < law_names.size(); ++k) m.materials[k].law = law_names[k];
+    }
+  }
   io.strings("groups", m.group_names);
   io.table("boundary_specs", m.bc_specs, [](auto&& col) {
     col("kind", &BcSpec::kind);
@@ -286,7 +302,7 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
   io.scalar("run/contact_detection_on", *s.contacts_on);
 }
 
-/// A loaded state must be self-consistent before any step indexes with it.
+// A loaded state must be self-consistent before any step indexes with it.
 void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
   const int kns = s.dim == 2 ? 1 : 3;
   auto same = [&](std::size_t size, const char* what, std::size_t expected) {
@@ -338,6 +354,93 @@ void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
 
 }  // namespace
 
+namespace detail {
+namespace {
+std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t n) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < n; ++i) {
+    h ^= p[i];
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+}  // namespace
+
+template <int D>
+std::uint64_t Model<D>::state_hash() const {
+  std::uint64_t h = 1469598103934665603ull;
+  for (int a = 0; a < D; ++a) {
+    h = fnv(h, x[a].data(), x[a].size() * sizeof(double));
+    h = fnv(h, v[a].data(), v[a].size() * sizeof(double));
+  }
+  for (const auto* L : {&bonds, &contacts}) {
+    h = fnv(h, L->j.data(), L->j.size() * 4);
+    h = fnv(h, L->st.data(), L->st.size());
+    h = fnv(h, L->us.data(), L->us.size() * sizeof(double));
+  }
+  return h;
+}
+
+template <int D>
+StateRefs Model<D>::state_refs() {
+  StateRefs r;
+  r.dim = D;
+  for (int a = 0; a < D; ++a) {
+    r.x[a] = &x[a];
+    r.v[a] = &v[a];
+    r.x0[a] = &x0[a];
+    r.f[a] = &f[a];
+  }
+  r.im = &im;
+  r.rad = &rad;
+  r.id = &id;
+  r.grp = &grp;
+  r.mat = &mat;
+  r.flags = &flags;
+  r.bonds = &bonds;
+  r.contacts = &contacts;
+  r.bcp = &bcp;
+  r.acc = &acc;
+  r.events = &events;
+  r.step = &step_;
+  r.last_good = &last_good;
+  r.time = &time_;
+  r.dt_crit = &dt_crit;
+  r.lam_est = &lam_est;
+  r.lam_bound = &lam_bound;
+  r.energy_budget0 = &energy_budget0;
+  r.energy_tiny = &energy_tiny;
+  r.skin = &skin;
+  r.disp_bound = &disp_bound;
+  r.initialised = &initialised;
+  r.bcs_dirty = &bcs_dirty;
+  r.energy_valid = &energy_valid;
+  r.budget_dirty = &budget_dirty;
+  r.contacts_on = &contacts_on;
+  return r;
+}
+
+// After a load: the particles are in their saved (sorted) order; rebuild what derives
+// from the state. The thread plan is a function of the pair lists and the thread count
+// only, so rebuilding it does not change the floating-point path.
+template <int D>
+void Model<D>::state_loaded() {
+  refresh_laws();
+  inv_cache.clear();
+  sorted = true;
+  plan_dirty = true;
+  for (auto& b : evbuf) b.clear();
+}
+
+template std::uint64_t Model<2>::state_hash() const;
+template std::uint64_t Model<3>::state_hash() const;
+template StateRefs Model<2>::state_refs();
+template StateRefs Model<3>::state_refs();
+template void Model<2>::state_loaded();
+template void Model<3>::state_loaded();
+
+}  // namespace detail
+
 void Simulation::save_state(StateWriter& out) const {
   const StateRefs s = m_->state_refs();
   STRATA_CHECK(*s.initialised, Input, "save_state: call initialise() first");
@@ -351,7 +454,8 @@ void Simulation::save_state(StateWriter& out) const {
 void Simulation::load_state(const StateReader& in) {
   STRATA_CHECK(in.has("dem/format"), IO, "the state holds no DEM model (no 'dem/format')");
   const auto format = in.get_scalar<std::int64_t>("dem/format");
-  STRATA_CHECK(format == kFormat, Input, "the state has DEM format {}; this strata reads format {}", format,
+  STRATA_CHECK(format >= kOldestFormat && format <= kFormat, Input,
+               "the state has DEM format {}; this strata reads formats {} to {}", format, kOldestFormat,
                kFormat);
   const auto dim = in.get_scalar<std::int64_t>("dem/dimension");
   STRATA_CHECK(dim == m_->dim(), Input, "the state is of a {}D model, this model is {}D", dim, m_->dim());

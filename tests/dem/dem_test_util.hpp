@@ -10,14 +10,14 @@
 
 namespace strata::dem::test {
 
-/// SPEC C1 micro-parameters (Liu, Pollard & Shi 2013).
+/// Micro-parameters of the rock of Liu, Pollard & Shi (2013).
 inline Material c1_material(bool breakable = true) {
   Material m = spec_c1_rock();
   if (!breakable) m.tensile_strength = m.shear_strength = std::numeric_limits<double>::infinity();
   return m;
 }
 inline constexpr double kC1d = 1e-3;
-/// m = ρ·(√3/2)·d² (SPEC C1)
+/// m = ρ·(√3/2)·d² (the hexagonal cell area times the density per unit thickness)
 inline double c1_mass() { return 2.65e3 * std::sqrt(3.0) / 2 * kC1d * kC1d; }
 
 /// Adds the lattice's sites to the simulation (ids = lattice indices).

@@ -1,4 +1,4 @@
-// The solid-lattice law on a single pair (SPEC C1): thresholds, friction cap, separation.
+// The solid-lattice law (Liu, Pollard & Shi 2013) on a single pair: thresholds, friction cap, separation.
 #include "dem_test_util.hpp"
 
 #include <gtest/gtest.h>

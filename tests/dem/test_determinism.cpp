@@ -1,4 +1,4 @@
-// Bit-for-bit identical results for any thread count (SPEC: "What strata adds").
+// Bit-for-bit identical results for any thread count.
 #include "dem_test_util.hpp"
 
 #include <strata/core/parallel.hpp>

@@ -1,5 +1,5 @@
-// Bonds given as data (eccentric lattices, SPEC C4): per-bond rest length and stiffness
-// factor.
+// Bonds given as data (eccentric lattices, Zhao, Qiao, Zhang, Sun & Chen 2021): per-bond rest length and
+// stiffness factor.
 #include "dem_test_util.hpp"
 
 #include <strata/preprocess/ecc.hpp>

@@ -1,4 +1,5 @@
-// Elastic constants of lattice blocks against SPEC C2 (analytical lattice values).
+// Elastic constants of lattice blocks against the analytical lattice values (Liu, Pollard &
+// Shi 2013).
 #include "dem_test_util.hpp"
 
 #include <gtest/gtest.h>
@@ -117,7 +118,7 @@ Measured measure(int dim, const preprocess::Lattice& lat, double cross_section) 
 }  // namespace
 
 TEST(Elastic, HexBlockMatchesLatticeConstants) {
-  // SPEC C2: E·t = 2√3·Kn(Kn+Ks)/(3Kn+Ks), ν = (Kn−Ks)/(3Kn+Ks). A 60-row x 60-column
+  // E·t = 2√3·Kn(Kn+Ks)/(3Kn+Ks), ν = (Kn−Ks)/(3Kn+Ks). A 60-row x 60-column
   // block; stress from the bond virial and strains from a displacement fit, both over the
   // interior (middle half in x and y): within 1 %.
   const double kn = 6.587e10, ks = 2.371e10;
@@ -140,7 +141,7 @@ TEST(Elastic, HexBlockMatchesLatticeConstants) {
 }
 
 TEST(Elastic, HcpBlockAlongCAxisMatchesLatticeConstants) {
-  // SPEC C2: along the HCP c-axis E = 6√2·Kn(Kn+Ks)/(d(5Kn+Ks)), ν = (Kn−Ks)/(5Kn+Ks).
+  // Along the HCP c-axis E = 6√2·Kn(Kn+Ks)/(d(5Kn+Ks)), ν = (Kn−Ks)/(5Kn+Ks).
   // 20 x 20 x 20 mm block (~9000 spheres), interior stress (bond virial) and strains
   // (middle half of the block): within 3 % (the remaining 1/n surface effect: a 14 mm
   // block gives ν 4 % low; the lateral interior stress is 0.3 % of the axial one).

@@ -1,4 +1,4 @@
-// Lattices, bond counts and the critical time step (SPEC C1, C2).
+// Lattices, bond counts and the critical time step.
 #include "dem_test_util.hpp"
 
 #include <strata/preprocess/lattice.hpp>
@@ -16,7 +16,8 @@ using namespace strata::dem;
 using namespace strata::dem::test;
 
 TEST(Lattice, C1SpecimenHas1033DisksIn35Rows) {
-  // SPEC C1: 30.0 x 30.5 mm box, d = 1 mm -> 1033 disks, 35 rows alternating 30 and 29.
+  // The specimen of Li, Yin, Liu & Cai 2017: 30.0 x 30.5 mm box, d = 1 mm -> 1033 disks, 35 rows alternating
+  // 30 and 29.
   const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
   EXPECT_EQ(lat.size(), 1033u);
   std::map<int, int> per_row;
@@ -100,16 +101,16 @@ TEST(Lattice, HexLambdaFormulaMatchesBrillouinZoneScan) {
     EXPECT_LE(best, refined * (1 + 1e-12));
     EXPECT_GE(best, refined * (1 - 1e-3));
   }
-  // For C1 (Kn >= 2Ks) the maximum is the M point: (6Kn+2Ks)/m (SPEC C1); for Kn = Ks it
-  // is the K point, 9Kn/m, above 6Kn+2Ks = 8Kn: the SPEC formula holds only for Kn >~ 2Ks.
+  // For C1 (Kn >= 2Ks) the maximum is the M point: (6Kn+2Ks)/m; for Kn = Ks it
+  // is the K point, 9Kn/m, above 6Kn+2Ks = 8Kn: the formula (6Kn+2Ks)/m holds only for Kn >~ 2Ks.
   EXPECT_NEAR(hex_lattice_lambda_max(6.587e10, 2.371e10, 1.0) / (6 * 6.587e10 + 2 * 2.371e10), 1.0, 1e-12);
   EXPECT_NEAR(hex_lattice_lambda_max(1.0, 1.0, 1.0), 9.0, 1e-12);
 }
 
 TEST(CriticalDt, C1Specimen) {
-  // SPEC C1: dt_crit = 2·√(m/(6Kn+2Ks)) = 1.44e-7 s for the infinite lattice. The finite
+  // dt_crit = 2·√(m/(6Kn+2Ks)) = 1.44e-7 s for the infinite lattice. The finite
   // block's λmax is at most the infinite lattice's (interlacing), the Lanczos estimate is
-  // used with a 1 % margin: expect dt_crit within 1 % of the SPEC value.
+  // used with a 1 % margin: expect dt_crit within 1 % of that value.
   const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
   Simulation sim(2, Settings{.dt = 2e-8});
   add_lattice(sim, lat, sim.add_material(c1_material()));

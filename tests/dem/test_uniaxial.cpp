@@ -1,4 +1,5 @@
-// Reduced SPEC C1 uniaxial compression: order of events, peak, stress drop, band angles.
+// Reduced uniaxial compression of the 1033-disk specimen (Li, Yin, Liu & Cai 2017): order of events, peak,
+// stress drop, band angles.
 #include "dem_test_util.hpp"
 
 #include <strata/dem/hough.hpp>
@@ -67,10 +68,10 @@ TEST(Uniaxial, C1TensileFirstThenPeakThenDropAndConjugateBands) {
       "first break at strain %.3e (mode %d), first shear %.3e, peak %.4e N/m at strain %.3e, final %.4e\n",
       c.first_break_strain, static_cast<int>(c.first_mode), c.first_shear_strain, c.peak, c.peak_strain,
       c.stress.back());
-  // Elastic part: E·t from the first points within 5 % of SPEC C2's 9.236e10 N/m (the
+  // Elastic part: E·t from the first points within 5 % of the lattice value 9.236e10 N/m (the
   // dynamic loading and the discrete sampling cost a few per cent).
   EXPECT_NEAR(c.stress[3] / c.strain[3] / 9.236e10, 1.0, 0.05);
-  // SPEC C1: tensile cracking first, near strain 7e-4 (paper) / 1.0e-3 (affine estimate).
+  // Tensile cracking first, near strain 7e-4 (published run) / 1.0e-3 (affine estimate).
   EXPECT_EQ(c.first_mode, BreakMode::Tension);
   EXPECT_GT(c.first_break_strain, 6e-4);
   EXPECT_LT(c.first_break_strain, 1.3e-3);

@@ -1,6 +1,6 @@
 #pragma once
 /// Hough transform of 2D points: finds dominant straight lines, e.g. shear bands traced by
-/// broken-bond midpoints (SPEC C1: two conjugate, X-shaped bands).
+/// broken-bond midpoints (in uniaxial compression: two conjugate, X-shaped bands).
 #include <array>
 #include <vector>
 

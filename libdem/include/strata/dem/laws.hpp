@@ -1,143 +1,92 @@
 #pragma once
-/// Pair laws of the DEM: small stateless kernels (STYLE.md §3).
+/// Pair laws of the DEM and their registry.
 ///
-/// A law is a struct of parameters with `inline` member functions; the per-pair state
-/// (state byte and accumulated shear displacement) is passed in, so the law itself holds
-/// nothing that changes during a run. The step loop is a template over the law, so there
-/// is no virtual call per pair.
+/// A law is a small stateless struct: its parameters, with `inline` member functions; the
+/// per-pair state (state byte and shear displacement Us) is passed in, so nothing in the
+/// law changes during a run. The model picks its law once, when it is set up, by the name
+/// that Material::law holds (the scene's `law` key); the step loop is a template over the
+/// law (detail/step_kernel.hpp), so there is no virtual call per pair.
 ///
-/// How to add a law:
-///  1. Write a struct like `SolidLatticeLaw` below with the same member functions
-///     (`apply<NS>`, `energy<NS>`, `max_stiffness`), and a `static constexpr const char* kName`.
-///  2. Add an entry to `LawKind` and a row to `kLaws` (name + one-line description).
-///  3. Add a `case` to the set-up switch in libdem/src/model.cpp (`Model<D>::run`) that
-///     instantiates the step loop with the new struct, and a field to `Material` if the law
-///     needs parameters the existing fields do not carry.
-///  4. Add a unit test in tests/dem/test_bond_law.cpp (single pair, thresholds exact).
-#include <algorithm>
-#include <cmath>
+/// What a law provides (the concept PairLaw below checks it; laws/solid_lattice.hpp is the
+/// worked example):
+///  - `kName` (the name materials use) and `kDescription` (one line);
+///  - `static Law from_material(const Material&)`: the law of a pair of that material (for
+///    two materials the model passes their combined material: harmonic-mean stiffnesses,
+///    smaller friction and strengths, see docs/dem.md);
+///  - `Law scaled(double f) const`: the law with its stiffnesses times f (intact bonds of
+///    eccentric lattices); `PairStiffness stiffness() const` (critical time step);
+///  - the reference kernel `template <int NS> PairOutcome<NS> apply(st, un, us, dus) const`
+///    and `template <int NS> double energy(st, un, us) const`, NS = 1 in 2D, 3 in 3D; it
+///    handles every kind of pair (intact and broken bonds, never-bonded contacts);
+///  - optionally the batch form `template <int NS, bool kBroken, bool kEnergy>
+///    BondLaneResult<NS> lane(const BondLane<NS>&) const` for the bond pass: `apply` and
+///    `energy` for one bond without branches (selects), giving the same bits; without it
+///    every bond takes `apply` (correct, slower). Check that the bond pass still vectorises
+///    (GCC: -fopt-info-vec on libdem/src/step.cpp); `#pragma GCC unroll` on its loops over
+///    the NS components helps.
+///
+/// How to add a law to strata:
+///  1. Write libdem/include/strata/dem/laws/<name>.hpp with the struct (copy
+///     laws/solid_lattice.hpp); cite the source of its equations.
+///  2. Include it below and add the struct to `BuiltinLaws` (one row); libdem then compiles
+///     the step kernel for it (libdem/src/step.cpp) and `kLaws` lists it.
+///  3. If it needs parameters Material does not carry, add fields to Material
+///     (material.hpp), to the checkpoint (libdem/src/state.cpp) and to the scene schema.
+///  4. Run test_dem: tests/dem/test_law_conformance.cpp checks the batch form against the
+///     reference kernel for every row; add single-pair tests of its thresholds next to
+///     tests/dem/test_bond_law.cpp and a section to docs/dem.md.
+/// A program can also add a law of its own without changing strata: register_law<Law>()
+/// (register_law.hpp) compiles the step kernel for it in the program.
+#include <strata/dem/laws/common.hpp>
+#include <strata/dem/laws/solid_lattice.hpp>
+#include <strata/dem/material.hpp>
+
+#include <array>
+#include <concepts>
 #include <cstdint>
+#include <vector>
 
 namespace strata::dem {
 
-/// State byte of a bond or contact: the low two bits are the kind, the others are flags.
-namespace pair_state {
-inline constexpr std::uint8_t kIntact = 0;         ///< bonded, carries tension and shear
-inline constexpr std::uint8_t kBrokenTension = 1;  ///< bond broke in tension: friction only
-inline constexpr std::uint8_t kBrokenShear = 2;    ///< bond broke in shear: friction only
-inline constexpr std::uint8_t kContact = 3;        ///< never bonded: friction only
-inline constexpr std::uint8_t kKindMask = 3;
-inline constexpr std::uint8_t kTouching = 4;   ///< broken bond/contact currently in contact
-inline constexpr std::uint8_t kSeparated = 8;  ///< broken bond has opened at least once
-inline constexpr std::uint8_t kReclosed = 16;  ///< broken bond opened and touches again
-}  // namespace pair_state
-
-/// What the law returns for one pair in one step.
-template <int NS>
-struct PairOutcome {
-  double fn = 0;    ///< normal force, compression positive (N)
-  double fs[NS]{};  ///< shear force components (N), in the frame the caller uses for us
-  int broke = 0;    ///< 0: no break this step; 1: tension; 2: shear
+/// What the model needs of a pair law (see the header comment).
+template <class L>
+concept PairLaw = requires(const L& l, const Material& m, std::uint8_t& st, double un, double* us,
+                           const double* dus) {
+  { L::kName } -> std::convertible_to<const char*>;
+  { L::kDescription } -> std::convertible_to<const char*>;
+  { L::from_material(m) } -> std::same_as<L>;
+  { l.scaled(1.0) } -> std::same_as<L>;
+  { l.stiffness() } -> std::same_as<PairStiffness>;
+  { l.template apply<1>(st, un, us, dus) } -> std::same_as<PairOutcome<1>>;
+  { l.template apply<3>(st, un, us, dus) } -> std::same_as<PairOutcome<3>>;
+  { l.template energy<1>(st, un, us) } -> std::same_as<double>;
+  { l.template energy<3>(st, un, us) } -> std::same_as<double>;
 };
 
-/// The solid-lattice law of SPEC C1 (Liu, Pollard & Shi 2013, eqs. 1-5).
-///  - intact: Fn = Kn·Un (Un = ri + rj - |xj - xi|, compression positive);
-///    Fs = Ks·Us with Us accumulated from tangential displacement increments;
-///    breaks in tension when Fn < -Fn_max, in shear when |Fs| > Fs0 (default) or
-///    |Fs| > Fs0 + mu·max(Fn, 0) (`friction_strengthens_bonds`);
-///  - broken bond or contact: no tension (Un <= 0: open, zero force, Us reset to 0);
-///    touching: Fn = Kn·Un, |Fs| <= mu·Fn (Coulomb slip: Us is scaled back).
-struct SolidLatticeLaw {
-  static constexpr const char* kName = "solid_lattice";
-  double kn = 0, ks = 0, mu = 0, fn_max = 0, fs0 = 0;
-  bool friction_strengthens_bonds = false;
+/// A list of law types.
+template <PairLaw... L>
+struct LawList {};
 
-  /// Shear strength of an intact bond carrying normal force fn.
-  inline double intact_shear_limit(double fn) const {
-    return friction_strengthens_bonds ? fs0 + mu * std::max(fn, 0.0) : fs0;
-  }
+/// The registry: the laws built into strata, one row each.
+using BuiltinLaws = LawList<SolidLatticeLaw>;
 
-  /// Advances one pair by one step: `st` state byte, `un` normal overlap now, `us` the NS
-  /// shear displacement components (already rotated into the current tangent plane by the
-  /// caller), `dus` this step's tangential displacement increment.
-  template <int NS>
-  inline PairOutcome<NS> apply(std::uint8_t& st, double un, double* us, const double* dus) const {
-    using namespace pair_state;
-    PairOutcome<NS> o;
-    bool added = false;
-    if ((st & kKindMask) == kIntact) [[likely]] {
-      double fs2 = 0;
-      for (int a = 0; a < NS; ++a) {
-        us[a] += dus[a];
-        fs2 += us[a] * us[a];
-      }
-      fs2 *= ks * ks;
-      const double fn = kn * un;
-      const double lim = intact_shear_limit(fn);
-      if (fn >= -fn_max && fs2 <= lim * lim) [[likely]] {
-        o.fn = fn;
-        for (int a = 0; a < NS; ++a) o.fs[a] = ks * us[a];
-        return o;
-      }
-      // Tension is checked first: a bond over both limits breaks in tension.
-      o.broke = fn < -fn_max ? 1 : 2;
-      st = static_cast<std::uint8_t>((st & ~kKindMask) | (o.broke == 1 ? kBrokenTension : kBrokenShear));
-      added = true;
-      if (un > 0) st |= kTouching;
-    }
-    // Broken bond or contact: friction only.
-    if (un <= 0) {
-      for (int a = 0; a < NS; ++a) us[a] = 0;
-      st = static_cast<std::uint8_t>(st & ~kTouching);
-      if ((st & kKindMask) != kContact) st |= kSeparated;
-      return o;
-    }
-    if (!(st & kTouching)) {
-      st |= kTouching;
-      if (st & kSeparated) st |= kReclosed;
-    }
-    double fs2 = 0;
-    for (int a = 0; a < NS; ++a) {
-      if (!added) us[a] += dus[a];
-      fs2 += us[a] * us[a];
-    }
-    fs2 *= ks * ks;
-    o.fn = kn * un;
-    const double cap = mu * o.fn;
-    if (fs2 > cap * cap) {
-      const double s = cap / std::sqrt(fs2);  // Coulomb slip: scale Us back onto the cap
-      for (int a = 0; a < NS; ++a) us[a] *= s;
-    }
-    for (int a = 0; a < NS; ++a) o.fs[a] = ks * us[a];
-    return o;
-  }
-
-  /// Stored energy of a pair (J): ½·Kn·Un² + ½·Ks·|Us|² for an intact bond, and for a
-  /// broken bond or contact while it touches (Un > 0); zero otherwise.
-  template <int NS>
-  inline double energy(std::uint8_t st, double un, const double* us) const {
-    using namespace pair_state;
-    if ((st & kKindMask) != kIntact && un <= 0) return 0.0;
-    double u2 = 0;
-    for (int a = 0; a < NS; ++a) u2 += us[a] * us[a];
-    return 0.5 * kn * un * un + 0.5 * ks * u2;
-  }
-
-  /// Largest of the pair's stiffnesses (N/m), for time-step bounds.
-  inline double max_stiffness() const { return std::max(kn, ks); }
-};
-
-/// The registry of pair laws (see the header comment for how to add one).
-enum class LawKind { SolidLattice };
+/// Name and description of a law.
 struct LawInfo {
-  LawKind kind;
   const char* name;
   const char* description;
 };
-inline constexpr LawInfo kLaws[] = {
-    {LawKind::SolidLattice, SolidLatticeLaw::kName,
-     "solid-lattice bonds (Liu et al. 2013): linear normal/shear springs, tension and shear "
-     "breakage, Coulomb friction after breaking"},
-};
+
+namespace detail {
+template <class... L>
+constexpr std::array<LawInfo, sizeof...(L)> law_table(LawList<L...>) {
+  return {LawInfo{L::kName, L::kDescription}...};
+}
+}  // namespace detail
+
+/// The built-in laws (from BuiltinLaws), in order.
+inline constexpr auto kLaws = detail::law_table(BuiltinLaws{});
+
+/// Every law a Material may name: the built-in ones, then those added with register_law().
+std::vector<LawInfo> available_laws();
 
 }  // namespace strata::dem

@@ -1,5 +1,5 @@
 #pragma once
-/// Bonded-particle DEM (SPEC C1): 2D disks or 3D spheres without rotation, solid-lattice
+/// Bonded-particle DEM: 2D disks or 3D spheres without rotation, solid-lattice
 /// bonds that break in tension or shear, frictional contacts, leapfrog integration,
 /// damping, boundary conditions on named groups, probes, and a checked time step.
 ///
@@ -12,6 +12,7 @@
 /// calls). Every function taking particle indices takes ids. Read-access functions return
 /// arrays in the model's internal (spatially sorted) order together with `ids()`.
 #include <strata/dem/laws.hpp>
+#include <strata/dem/material.hpp>
 
 #include <array>
 #include <cstddef>
@@ -27,21 +28,6 @@ class StateReader;
 }  // namespace strata
 
 namespace strata::dem {
-
-/// Material of a particle; bonds and contacts between two materials use the pair rule in
-/// docs/dem.md (series stiffness, weaker strength, smaller friction).
-struct Material {
-  double density = 0;   ///< kg/m² in 2D (per unit thickness), kg/m³ in 3D
-  double kn = 0;        ///< normal stiffness Kn (N/m)
-  double ks = 0;        ///< shear stiffness Ks (N/m)
-  double friction = 0;  ///< friction coefficient μ of broken bonds and contacts
-  double tensile_strength = std::numeric_limits<double>::infinity();  ///< Fn_max (N)
-  double shear_strength = std::numeric_limits<double>::infinity();    ///< Fs0 (N)
-  /// true (default, the paper's criterion (5)): an intact bond breaks in shear when
-  /// |Fs| > Fs0 + μ·max(Fn, 0); false: when |Fs| > Fs0. At the SPEC C1 settings true gives the
-  /// paper's curve (peak strain 3.06e-3 against 2.8e-3; false: 1.80e-3).
-  bool friction_strengthens_bonds = true;
-};
 
 /// Axes masks for boundary conditions.
 enum Axes : unsigned { kX = 1, kY = 2, kZ = 4, kXY = 3, kXYZ = 7 };
@@ -66,7 +52,7 @@ struct Settings {
   bool allow_unstable = false;  ///< dt > critical_dt() warns instead of throwing
   enum class Damping { None, Viscous, Local };
   Damping damping = Damping::None;
-  double viscous_c = 0;             ///< artificial viscosity c (N·s/m): F -= c·v (SPEC C1)
+  double viscous_c = 0;             ///< artificial viscosity c (N·s/m): F -= c·v
   double local_alpha = 0.7;         ///< local non-viscous damping α in [0,1): F -= α|F|sign(v)
   std::array<double, 3> gravity{};  ///< body acceleration (m/s²)
   bool contact_detection = true;    ///< search for new contacts between unbonded particles
@@ -109,20 +95,21 @@ class Simulation {
   /// Reserves space for n particles (avoids growth peaks in memory while building).
   void reserve(std::size_t n);
   /// Adds a particle at rest; returns its id. mass <= 0: density × cell measure (2D:
-  /// (√3/2)·d², the hex cell area, SPEC C1; 3D: d³/√2, the close-packed cell volume).
+  /// (√3/2)·d², the hex cell area; 3D: d³/√2, the close-packed cell volume).
   std::size_t add_particle(std::array<double, 3> x, double radius, int material, std::uint32_t groups = 0,
                            double mass = 0);
   std::size_t particle_count() const;
   /// Bonds every pair with |xi - xj| <= (ri + rj)(1 + tolerance). O(N) with a cell grid.
   void bond_touching_pairs(double tolerance = 1e-6);
-  /// Bonds given as data instead (eccentric lattices, SPEC C4): bond b joins particles
-  /// first[b] and second[b] (ids); its rest length is the centres' distance now (so the
-  /// model starts unloaded whatever the offsets), and while intact its Kn and Ks are scaled
-  /// by factor[b] in (0, 1] (the γ of weakened bonds; empty: all 1). A broken bond pushes
-  /// back (material stiffness, friction) when shorter than its rest length. Unbonded
-  /// neighbours of a strongly eccentric lattice may overlap at the start (3D: Ra > 0.41;
-  /// 2D: Ra > 0.73): turn contact detection off for such models. Call it once, before
-  /// initialise(), instead of bond_touching_pairs(). Costs 16 bytes per bond.
+  /// Bonds given as data instead (the eccentric lattices of Zhao, Qiao, Zhang, Sun & Chen
+  /// 2021): bond b joins particles first[b] and second[b] (ids); its rest length is the
+  /// centres' distance now (so the model starts unloaded whatever the offsets), and while
+  /// intact its Kn and Ks are scaled by factor[b] in (0, 1] (the γ of weakened bonds;
+  /// empty: all 1). A broken bond pushes back (material stiffness, friction) when shorter
+  /// than its rest length. Unbonded neighbours of a strongly eccentric lattice may overlap
+  /// at the start (3D: Ra > 0.41; 2D: Ra > 0.73): turn contact detection off for such
+  /// models. Call it once, before initialise(), instead of bond_touching_pairs(). Costs 16
+  /// bytes per bond.
   void set_bonds(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& second,
                  const std::vector<double>& factor = {});
   /// Sets the velocity of particle `id` (initial conditions).
@@ -142,13 +129,14 @@ class Simulation {
   /// Moves the group's particles at velocity v along the given axes (other axes free).
   void prescribe_velocity(const std::string& group, std::array<double, 3> v, unsigned axes);
   /// Holds the group fixed along the increment's non-zero axes and moves it by `increment`
-  /// once every `every_steps` steps (SPEC C1 platens: 1.9e-9 m every 400 steps).
+  /// once every `every_steps` steps (the platens of Li, Yin, Liu & Cai 2017: 1.9e-9 m
+  /// every 400 steps).
   void step_displacement(const std::string& group, std::array<double, 3> increment, std::int64_t every_steps);
   /// Force on each particle of the group, piecewise linear in time between (times, forces),
   /// constant outside. A particle takes the last history given for one of its groups.
   void force_history(const std::string& group, std::vector<double> times,
                      std::vector<std::array<double, 3>> forces);
-  /// Drives the group's particles along the given axes from outside (coupling, SPEC C3):
+  /// Drives the group's particles along the given axes from outside (coupling):
   /// they take the displacement and velocity given by set_kinematics() and move with that
   /// velocity until the next call, exerting their bond and contact forces on the others.
   /// The work their motion does is counted as external work, like a prescribed velocity.
@@ -245,7 +233,7 @@ class Simulation {
 };
 
 /// λmax of the infinite 2D hex lattice (1/s²) for equal masses m, from the dynamical matrix
-/// over the Brillouin zone. For Kn >= 2Ks (e.g. SPEC C1) it is (6Kn+2Ks)/m (the M point);
+/// over the Brillouin zone. For Kn >= 2Ks (e.g. the rock of spec_c1_rock()) it is (6Kn+2Ks)/m (the M point);
 /// for Kn = Ks it is 9Kn/m (the K point); in between the maximum lies on the M-K edge.
 double hex_lattice_lambda_max(double kn, double ks, double mass);
 

@@ -1,0 +1,189 @@
+#pragma once
+// Not API: the vectorised part of the bond pass (see step_kernel.hpp): one chunk of a
+// block's bonds through the law's batch form (`lane`, laws.hpp).
+#include <strata/dem/detail/model_data.hpp>
+#include <strata/dem/laws/common.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+
+namespace strata::dem::detail {
+
+/// Whether Law has a batch form for the bond pass (otherwise every bond takes `apply`).
+template <class Law, int NS>
+concept HasLane = requires(const Law& l, const BondLane<NS>& b) {
+  { l.template lane<NS, true, true>(b) } -> std::same_as<BondLaneResult<NS>>;
+};
+
+/// How the bond pass gets a bond's rest length.
+enum Rest { kRadiusSum, kUniform, kPerBond };
+
+/// Bonds per chunk of the bond pass (see bond_block).
+inline constexpr std::size_t kChunk = 128;
+
+/// Bond pass pointers of one block (indexed by the block's bond position q).
+struct BondSpan {
+  const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf;
+  double *F0, *F1, *F2, *en, *us;
+  const std::uint8_t* own;
+  const std::uint32_t* j;
+  std::uint8_t *st, *slow;
+  std::uint32_t p0, e;
+};
+
+/// Bonds qa..qb-1 of a block: the geometry of each bond, then the law's batch form
+/// (`Law::lane`) for both kinds of bond: intact and, when kBroken, broken (friction only).
+/// Bitwise & and selects instead of branches, so the loop vectorises; a bond left for the
+/// reference kernel (one breaking now, or a cross bond) keeps its stored state here.
+/// Without kBroken every bond of the range must be intact: the broken-bond law (a square
+/// root and a division per bond) is left out.
+template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken>
+void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
+               std::size_t qb) {
+  using namespace pair_state;
+  constexpr int kNs = kNsOf<D>;
+  const double* __restrict X0 = sp.X0, * __restrict X1 = sp.X1, * __restrict X2 = sp.X2;
+  const double* __restrict V0 = sp.V0, * __restrict V1 = sp.V1, * __restrict V2 = sp.V2;
+  double* __restrict F0 = sp.F0, * __restrict F1 = sp.F1, * __restrict F2 = sp.F2;
+  const double* __restrict R = sp.R;
+  const double* __restrict br0 = sp.r0;
+  const double* __restrict bkf = sp.kf;
+  const std::uint8_t* __restrict own = sp.own;
+  const std::uint32_t* __restrict bj = sp.j;
+  std::uint8_t* __restrict bst = sp.st;
+  std::uint8_t* __restrict slow = sp.slow;
+  double* __restrict bus = sp.us;
+  double* __restrict EN = sp.en;
+  const std::uint32_t up0 = sp.p0, ee = sp.e;
+  const Law law = L;  // a local copy: its parameters cannot alias the stores below
+  // Endpoints, states and verdicts in 64-bit lanes: with a byte-sized type in the loop GCC
+  // vectorises 64 bonds at a time (8 registers per double) and spills.
+  const std::size_t len_q = qb - qa;
+  alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
+  alignas(64) double NU[kNs][kChunk];  // new shear displacements (stored for fast bonds only)
+  for (std::size_t i = 0; i < len_q; ++i) {
+    P[i] = up0 + own[qa + i];
+    J[i] = bj[qa + i];
+    if constexpr (kBroken) ST[i] = bst[qa + i];
+  }
+  const std::int64_t ee64 = ee;
+  // The geometry of a bond (gathers, length, normal, Us) and its law. Where broken bonds
+  // take the friction law as well, they run as two loops: each is short enough for the
+  // core to overlap several bonds' square roots and divisions, which in one long loop run
+  // back to back; the intact law alone runs best in one loop.
+  struct Geo {
+    double n[3], un, us[3], u2;
+  };
+  auto geometry = [&](std::size_t i) {
+    const std::size_t q = qa + i;
+    const std::int64_t p = P[i], j = J[i];
+    double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
+    double len2 = n0 * n0 + n1 * n1;
+    if constexpr (D == 3) {
+      n2 = X2[j] - X2[p];
+      len2 += n2 * n2;
+    }
+    const double len = std::sqrt(len2);
+    const double inv = 1.0 / len;
+    n0 *= inv;
+    n1 *= inv;
+    if constexpr (D == 3) n2 *= inv;
+    double un;
+    if constexpr (kRest == kPerBond) {
+      un = br0[q] - len;
+    } else if constexpr (kRest == kUniform) {
+      un = d_uniform - len;  // two gathers fewer
+    } else {
+      un = R[p] + R[j] - len;
+    }
+    // shear displacement with this step's increment, and its square
+    double us[3] = {0, 0, 0};  // the stored Us, turned, plus this step's increment
+    if constexpr (D == 2) {
+      us[0] = bus[q] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
+    } else {
+      const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
+      const double dun = du0 * n0 + du1 * n1 + du2 * n2;
+      const double b0 = bus[3 * q], b1 = bus[3 * q + 1], b2 = bus[3 * q + 2];
+      const double usn = b0 * n0 + b1 * n1 + b2 * n2;
+      us[0] = (b0 - usn * n0) + (du0 - dun * n0);
+      us[1] = (b1 - usn * n1) + (du1 - dun * n1);
+      us[2] = (b2 - usn * n2) + (du2 - dun * n2);
+    }
+    double u2 = 0;
+    for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
+    Geo g{{n0, n1, n2}, un, {us[0], us[1], us[2]}, u2};
+    return g;
+  };
+  auto apply_law = [&](std::size_t i, const Geo& g) {
+    const std::size_t q = qa + i;
+    BondLane<kNs> b;
+    b.st = kBroken ? ST[i] : std::int64_t{kIntact};
+    b.un = g.un;
+    for (int a = 0; a < kNs; ++a) b.us[a] = g.us[a];
+    b.u2 = g.u2;
+    if constexpr (kRest == kPerBond) b.kf = bkf[q];  // 1 otherwise, which the compiler folds away
+    const BondLaneResult<kNs> o = law.template lane<kNs, kBroken, kEnergy>(b);
+    const bool fast = (J[i] < ee64) & o.done;
+    SLOW[i] = !fast;
+    for (int a = 0; a < kNs; ++a) NU[a][i] = o.us[a];
+    if constexpr (kBroken) ST[i] = b.st + static_cast<std::int64_t>(fast) * (o.st - b.st);
+    const double n0 = g.n[0], n1 = g.n[1], n2 = g.n[2];
+    if constexpr (D == 2) {
+      F0[q] = -o.fn * n0 - o.fs[0] * n1;
+      F1[q] = -o.fn * n1 + o.fs[0] * n0;
+    } else {
+      F0[q] = -o.fn * n0 + o.fs[0];
+      F1[q] = -o.fn * n1 + o.fs[1];
+      F2[q] = -o.fn * n2 + o.fs[2];
+    }
+    if constexpr (kEnergy) EN[q] = o.energy;
+  };
+  if constexpr (kBroken) {
+    alignas(64) double GN[D][kChunk], GUN[kChunk], GUS[kNs][kChunk], GU2[kChunk];
+#pragma omp simd
+    for (std::size_t i = 0; i < len_q; ++i) {
+      const Geo g = geometry(i);
+      for (int a = 0; a < D; ++a) GN[a][i] = g.n[a];
+      GUN[i] = g.un;
+      for (int a = 0; a < kNs; ++a) GUS[a][i] = g.us[a];
+      GU2[i] = g.u2;
+    }
+#pragma omp simd
+    for (std::size_t i = 0; i < len_q; ++i) {
+      Geo g{{0, 0, 0}, GUN[i], {0, 0, 0}, GU2[i]};
+      for (int a = 0; a < D; ++a) g.n[a] = GN[a][i];
+      for (int a = 0; a < kNs; ++a) g.us[a] = GUS[a][i];
+      apply_law(i, g);
+    }
+  } else {
+#pragma omp simd
+    for (std::size_t i = 0; i < len_q; ++i) apply_law(i, geometry(i));
+  }
+  for (std::size_t i = 0; i < len_q; ++i) {
+    slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
+    if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
+    if (!SLOW[i])
+      for (int a = 0; a < kNs; ++a) bus[(qa + i) * kNs + a] = NU[a][i];
+  }
+}
+
+/// The bond pass of one block's mq bonds, chunk by chunk: chunks with no broken bond (nearly
+/// all of an unbroken lattice) skip the broken-bond law; the others take the full one.
+template <int D, class Law, bool kEnergy, Rest kRest>
+void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t mq) {
+  const std::uint8_t* stq = sp.st;
+  for (std::size_t qa = 0; qa < mq; qa += kChunk) {
+    const std::size_t qb = std::min(mq, qa + kChunk);
+    std::uint8_t any = 0;
+    for (std::size_t q = qa; q < qb; ++q) any |= stq[q];
+    if (any == pair_state::kIntact)
+      bond_span<D, Law, kEnergy, kRest, false>(sp, L, dt, d_uniform, qa, qb);
+    else
+      bond_span<D, Law, kEnergy, kRest, true>(sp, L, dt, d_uniform, qa, qb);
+  }
+}
+
+}  // namespace strata::dem::detail

@@ -1,0 +1,186 @@
+#pragma once
+// Not API: the arrays of the DEM model as the step kernel (step_kernel.hpp) sees them. The
+// model itself (set-up, search, time step, probes, checkpoints) is libdem/src/model.hpp;
+// the kernel is in a header so that a law added from outside libdem (register_law.hpp)
+// gets a step loop compiled for it.
+#include <strata/dem/simulation.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace strata::dem::detail {
+
+inline constexpr std::uint32_t kNone = 0xffffffffu;
+/// Particles per accumulator block: energy/work sums are formed per block and added in
+/// block order, so they do not depend on the thread count. Thread ranges are whole blocks.
+inline constexpr std::ptrdiff_t kBlock = 256;
+
+/// Shear components per pair: a scalar along the tangent in 2D, a vector in 3D.
+template <int D>
+inline constexpr int kNsOf = D == 2 ? 1 : 3;
+
+/// Bonds or contacts stored CSR by owner: the pairs (i, j > i) of owner i are
+/// off[i] .. off[i+1]-1, sorted by j; i is implied.
+struct PairList {
+  std::vector<std::uint32_t> off{0};
+  std::vector<std::uint32_t> j;
+  std::vector<std::uint8_t> st;
+  std::vector<double> us;  // NS shear components per pair
+  // Bonds of eccentric lattices only (empty otherwise): rest length (the initial centre
+  // distance) and stiffness factor of each bond; both apply while the bond is intact.
+  std::vector<double> r0, kf;
+  std::size_t size() const { return j.size(); }
+  std::size_t bytes() const {
+    return off.capacity() * 4 + j.capacity() * 4 + st.capacity() +
+           (us.capacity() + r0.capacity() + kf.capacity()) * 8;
+  }
+};
+
+/// Boundary condition of one particle (only particles with a condition have one).
+struct BcParticle {
+  std::uint32_t index = 0;  // internal index
+  std::uint8_t mode[3]{};   // 0 free, 1 fixed, 2 velocity, 3 step displacement
+  double value[3]{};        // velocity (mode 2) or increment (mode 3)
+  std::int64_t every[3]{};  // steps between increments (mode 3)
+  int history = -1;         // force history index
+  double dx_prev[3]{};      // last step's displacement (trapezoid work)
+  double f_int[3]{};        // last internal force
+  double w_ahead = 0;       // work booked for the half interval after the last step
+};
+
+/// Rigid frictionless plane: point, unit normal (towards the particles), velocity, stiffness.
+struct Wall {
+  double p[3], n[3], v[3], k;
+};
+
+/// Per-block accumulators (padded to a cache line).
+struct alignas(64) BlockAcc {
+  double work = 0;        // prescribed motion, applied forces, walls (accumulated)
+  double dissipated = 0;  // damping (accumulated)
+  double ke = 0;          // kinetic energy at the last energy step
+  double eb = 0;          // pair + wall energy at the last energy step
+  double vmax2 = 0;       // largest |v|² in the last step
+};
+
+/// A bond break as the step records it (per thread; merged into BreakEvents after run()).
+struct RawEvent {
+  std::int64_t step;
+  double pos[3];
+  std::uint8_t mode;
+  std::uint32_t i, j;
+};
+
+/// A cross pair's slot that a thread gathers into particle `target`.
+struct Incoming {
+  std::uint32_t slot, target;
+  bool contact;
+};
+
+/// Thread plan (rebuilt when the thread count or the contact lists change): contiguous
+/// ranges of whole blocks; pairs whose partner lies in a later thread's range ("cross
+/// pairs") are computed first (phase A), stored in slots, and gathered by both ends in the
+/// same order as in a one-thread run.
+struct Plan {
+  int nt = 0;
+  std::vector<std::ptrdiff_t> begin;
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> own_b, own_c;  // (owner, pair)
+  std::vector<std::size_t> base_b, base_c;
+  std::vector<std::vector<Incoming>> in;
+};
+
+/// Per-thread scratch of the bond pass of one block: each bond's force on its owner, its
+/// energy, and whether the reference kernel must redo it.
+template <int D>
+struct Scratch {
+  std::array<std::vector<double>, D> fb;
+  std::vector<double> en;
+  std::vector<std::uint8_t> slow;
+  void fit(std::size_t m) {
+    if (en.size() >= m) return;
+    for (auto& a : fb) a.resize(m);
+    en.resize(m);
+    slow.resize(m);
+  }
+};
+
+/// What one step needs besides the arrays.
+struct StepCtx {
+  double dt, t, g[3];
+  std::int64_t step;
+  std::vector<std::array<double, 3>> hist;  // force of each force history at time t
+  Settings::Damping damping;
+  double viscous_c, local_alpha;
+  const Wall* walls;
+  std::size_t nwalls;
+};
+
+/// The model's arrays: particles (structure of arrays, internal order), pairs, boundary
+/// records, accumulators, and the thread plan with its scratch.
+template <int D>
+struct ModelData {
+  static constexpr int kNs = kNsOf<D>;
+
+  // ---- particle arrays -----------------------------------------------------------------
+  std::array<std::vector<double>, D> x, v, x0, f;
+  std::vector<double> im, rad;
+  std::vector<std::uint32_t> id, grp;
+  std::vector<std::uint8_t> mat, flags;  // flags bit 0: particle has a boundary condition
+  PairList bonds, contacts;
+  std::vector<BcParticle> bcp;  // sorted by index
+  std::vector<BlockAcc> acc;
+
+  // ---- thread plan and step scratch ----------------------------------------------------
+  Plan plan;
+  std::vector<Scratch<D>> scratch;
+  std::vector<std::vector<RawEvent>> evbuf;
+  double uniform_diameter = 0;  // 2r when every particle has radius r, else 0 (set by build_plan)
+  /// Owner of each bond relative to the start of its block (one byte per bond: kBlock =
+  /// 256; the bond pass reads owners from it instead of walking the CSR offsets every step).
+  std::vector<std::uint8_t> bond_owner;
+  static_assert(kBlock <= 256, "bond_owner holds owner offsets in one byte");
+  std::vector<double> cross_b, cross_c;  // D forces + 1 energy per slot
+
+  std::size_t n() const { return im.size(); }
+
+  double dist2(std::size_t p, std::size_t q) const {
+    double s = 0;
+    for (int a = 0; a < D; ++a) {
+      const double d = x[a][q] - x[a][p];
+      s += d * d;
+    }
+    return s;
+  }
+
+  /// Length at which pair k of L (between p and j) carries no normal force: ri + rj (the
+  /// disks/spheres touch), or an eccentric-lattice bond's initial length (intact or broken:
+  /// a broken one pushes back once shorter than that, as two touching grains would).
+  double rest_of(const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
+    return L.r0.empty() ? rad[p] + rad[j] : L.r0[k];
+  }
+
+  /// Whether pair k of L is an intact bond of an eccentric lattice, whose Kn and Ks are
+  /// scaled by its stiffness factor kf[k].
+  bool scaled(const PairList& L, std::uint32_t k) const {
+    return !L.kf.empty() && (L.st[k] & pair_state::kKindMask) == pair_state::kIntact;
+  }
+
+  /// Wall forces on particle p added to F; returns their stored energy.
+  double wall_energy_and_force(const Wall* walls, std::size_t nwalls, std::size_t p, double* F) const {
+    double e = 0;
+    for (std::size_t k = 0; k < nwalls; ++k) {
+      const Wall& w = walls[k];
+      double s = 0;
+      for (int a = 0; a < D; ++a) s += (x[a][p] - w.p[a]) * w.n[a];
+      const double delta = rad[p] - s;
+      if (delta > 0) {
+        for (int a = 0; a < D; ++a) F[a] += w.k * delta * w.n[a];
+        e += 0.5 * w.k * delta * delta;
+      }
+    }
+    return e;
+  }
+};
+
+}  // namespace strata::dem::detail

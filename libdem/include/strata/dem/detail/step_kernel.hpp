@@ -1,0 +1,572 @@
+#pragma once
+// Not API: the step kernel of the DEM, a template over the pair law: the scalar pair force,
+// the bond pass (bond_pass.hpp), the two phases of a step, the damped leapfrog update, and
+// the probes that evaluate pair forces. libdem compiles it for every built-in law
+// (libdem/src/step.cpp); register_law() compiles it for a law added from outside.
+//
+// One step, per thread on a contiguous range [b, e) of whole blocks: phase A computes the
+// pairs owned in the range whose partner lies in a later range into slots; phase B gathers
+// the incoming slots, then block by block runs the bond pass and updates the particles,
+// computing each contact on the way. Every particle's force is summed in the same order
+// for any thread count (docs/dem.md, "Memory layout and the step loop").
+#include <strata/core/parallel.hpp>
+#include <strata/dem/detail/bond_pass.hpp>
+#include <strata/dem/detail/law_engine.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <vector>
+
+namespace strata::dem::detail {
+
+/// Sum of three components (parallel_sum of forces).
+struct V3 {
+  double c[3]{};
+  V3& operator+=(const V3& o) {
+    for (int a = 0; a < 3; ++a) c[a] += o.c[a];
+    return *this;
+  }
+};
+
+template <int D, class Law>
+class Engine final : public LawEngine<D> {
+ public:
+  static constexpr int kNs = kNsOf<D>;
+  using Damping = Settings::Damping;
+
+  const char* name() const override { return Law::kName; }
+
+  void set_materials(const std::vector<Material>& pair_materials, int nm) override {
+    nmat = nm;
+    laws.clear();
+    for (const Material& pm : pair_materials) laws.push_back(Law::from_material(pm));
+  }
+  PairStiffness stiffness(int a, int b) const override {
+    return laws[static_cast<std::size_t>(a) * nmat + b].stiffness();
+  }
+
+  void step(ModelData<D>& m, const StepCtx& c, bool energy) override {
+    if (energy)
+      dispatch<true>(m, c);
+    else
+      dispatch<false>(m, c);
+  }
+
+  /// One pair: geometry (normal, tangential increment, turning of the stored shear
+  /// displacement into the current tangent plane), then the law's reference kernel. F
+  /// receives the force on the owner p; returns the pair's energy when kEnergy.
+  template <bool kEnergy>
+  static inline double pair_force(const double* const* X, const double* const* V, double rest, std::size_t p,
+                                  std::uint32_t j, std::uint8_t& st, double* us, const Law& law, double dt,
+                                  double* F, int& broke) {
+    double n[D], len2 = 0;
+    for (int a = 0; a < D; ++a) {
+      n[a] = X[a][j] - X[a][p];
+      len2 += n[a] * n[a];
+    }
+    const double len = std::sqrt(len2);
+    const double inv = 1.0 / len;
+    for (int a = 0; a < D; ++a) n[a] *= inv;
+    const double un = rest - len;
+    double dus[kNs];
+    if constexpr (D == 2) {
+      // tangent t = (-n_y, n_x); the scalar Us turns with the normal
+      dus[0] = ((V[1][j] - V[1][p]) * n[0] - (V[0][j] - V[0][p]) * n[1]) * dt;
+    } else {
+      double du[3], dun = 0, usn = 0;
+      for (int a = 0; a < 3; ++a) {
+        du[a] = (V[a][j] - V[a][p]) * dt;
+        dun += du[a] * n[a];
+        usn += us[a] * n[a];
+      }
+      // keep Us in the current tangent plane: project out its normal part. Its length
+      // shrinks by a factor cos(θ) for the per-step rotation θ of the normal (θ ~ 1e-6 in
+      // a loaded lattice, a relative change of 1e-12 per step), which is not restored.
+      for (int a = 0; a < 3; ++a) us[a] -= usn * n[a];
+      for (int a = 0; a < 3; ++a) dus[a] = du[a] - dun * n[a];
+    }
+    const PairOutcome<kNs> o = law.template apply<kNs>(st, un, us, dus);
+    broke = o.broke;
+    if constexpr (D == 2) {
+      F[0] = -o.fn * n[0] - o.fs[0] * n[1];
+      F[1] = -o.fn * n[1] + o.fs[0] * n[0];
+    } else {
+      for (int a = 0; a < 3; ++a) F[a] = -o.fn * n[a] + o.fs[a];
+    }
+    if constexpr (kEnergy) return law.template energy<kNs>(st, un, us);
+    return 0.0;
+  }
+
+  // ---- probes ---------------------------------------------------------------------------
+  double stored_energy(const ModelData<D>& m, const Wall* walls, std::size_t nwalls,
+                       double dt) const override {
+    return par::parallel_sum<double>(static_cast<std::ptrdiff_t>(m.n()), [&](std::ptrdiff_t p) {
+      double e = 0;
+      dry_pairs(m, dt, static_cast<std::size_t>(p),
+                [&](std::uint32_t, const double*, double en, std::uint8_t, const double*, bool) { e += en; });
+      double F[D] = {};
+      return e + m.wall_energy_and_force(walls, nwalls, static_cast<std::size_t>(p), F);
+    });
+  }
+
+  std::array<double, 3> group_force(const ModelData<D>& m, const Wall* walls, std::size_t nwalls, double dt,
+                                    std::uint32_t mask) const override {
+    const V3 r = par::parallel_sum<V3>(static_cast<std::ptrdiff_t>(m.n()), [&](std::ptrdiff_t pp) {
+      const auto p = static_cast<std::size_t>(pp);
+      V3 s;
+      const bool gp = m.grp[p] & mask;
+      dry_pairs(m, dt, p, [&](std::uint32_t j, const double* F, double, std::uint8_t, const double*, bool) {
+        const bool gj = m.grp[j] & mask;
+        for (int a = 0; a < D; ++a) s.c[a] += (gp ? F[a] : 0.0) - (gj ? F[a] : 0.0);
+      });
+      if (gp) {
+        double F[D] = {};
+        m.wall_energy_and_force(walls, nwalls, p, F);
+        for (int a = 0; a < D; ++a) s.c[a] += F[a];
+      }
+      return s;
+    });
+    return {r.c[0], r.c[1], r.c[2]};
+  }
+
+  std::vector<PairView> pairs(const ModelData<D>& m, bool want_bonds) const override {
+    std::vector<PairView> out;
+    const PairList& L = want_bonds ? m.bonds : m.contacts;
+    const double* X[D];
+    const double* V[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = m.x[a].data();
+      V[a] = m.v[a].data();
+    }
+    out.reserve(L.size());
+    for (std::size_t p = 0; p < m.n(); ++p)
+      for (std::uint32_t k = L.off[p]; k < L.off[p + 1]; ++k) {
+        const std::uint32_t j = L.j[k];
+        std::uint8_t st = L.st[k];
+        double us[kNs];
+        for (int s = 0; s < kNs; ++s) us[s] = L.us[std::size_t{k} * kNs + s];
+        double F[D];
+        int broke = 0;
+        // forces at the current state without the pending increment (dt = 0)
+        pair_force<false>(X, V, m.rest_of(L, k, p, j), p, j, st, us, law_for(m, L, k, p, j), 0.0, F, broke);
+        const std::uint8_t s0 = L.st[k];
+        double fn = 0, fs2 = 0;
+        double nv[D], l2 = 0;
+        for (int a = 0; a < D; ++a) {
+          nv[a] = m.x[a][j] - m.x[a][p];
+          l2 += nv[a] * nv[a];
+        }
+        const double l = std::sqrt(l2);
+        for (int a = 0; a < D; ++a) fn -= F[a] * nv[a] / l;
+        for (int a = 0; a < D; ++a) {
+          const double ft = F[a] + fn * nv[a] / l;
+          fs2 += ft * ft;
+        }
+        out.push_back({static_cast<std::uint32_t>(p),
+                       j,
+                       static_cast<PairKind>(s0 & pair_state::kKindMask),
+                       (s0 & pair_state::kTouching) != 0,
+                       (s0 & pair_state::kReclosed) != 0,
+                       fn,
+                       std::sqrt(fs2),
+                       {F[0], F[1], D == 3 ? F[D - 1] : 0.0}});
+      }
+    return out;
+  }
+
+ private:
+  std::vector<Law> laws;  // nmat × nmat
+  int nmat = 0;
+
+  /// The law of the pair (p, q).
+  const Law& law_of(const ModelData<D>& m, std::size_t p, std::size_t q) const {
+    return laws[static_cast<std::size_t>(m.mat[p]) * nmat + m.mat[q]];
+  }
+  /// The law of pair k of L: the materials' law, with Kn and Ks scaled by an intact
+  /// eccentric-lattice bond's stiffness factor (k -> γ·k).
+  Law law_for(const ModelData<D>& m, const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
+    return m.scaled(L, k) ? law_of(m, p, j).scaled(L.kf[k]) : law_of(m, p, j);
+  }
+
+  /// Probes: fn(j, F, energy, state, us, is_contact) for every pair owned by p, evaluated
+  /// on copies of the pair state with the pending shear increment (v·dt) the next step
+  /// would add.
+  template <typename Fn>
+  void dry_pairs(const ModelData<D>& m, double dt, std::size_t p, Fn&& fn) const {
+    const double* X[D];
+    const double* V[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = m.x[a].data();
+      V[a] = m.v[a].data();
+    }
+    auto one = [&](const PairList& L, std::uint32_t k) {
+      const std::uint32_t j = L.j[k];
+      std::uint8_t st = L.st[k];
+      double us[kNs];
+      for (int s = 0; s < kNs; ++s) us[s] = L.us[std::size_t{k} * kNs + s];
+      double F[D];
+      int broke = 0;
+      const double e =
+          pair_force<true>(X, V, m.rest_of(L, k, p, j), p, j, st, us, law_for(m, L, k, p, j), dt, F, broke);
+      fn(j, F, e, st, us, &L == &m.contacts);
+    };
+    for (std::uint32_t k = m.bonds.off[p]; k < m.bonds.off[p + 1]; ++k) one(m.bonds, k);
+    for (std::uint32_t k = m.contacts.off[p]; k < m.contacts.off[p + 1]; ++k) one(m.contacts, k);
+  }
+
+  static void record(ModelData<D>& m, int t, std::int64_t step, std::size_t p, std::uint32_t j, int mode) {
+    RawEvent ev{step, {0, 0, 0}, static_cast<std::uint8_t>(mode), static_cast<std::uint32_t>(p), j};
+    for (int a = 0; a < D; ++a) ev.pos[a] = 0.5 * (m.x[a][p] + m.x[a][j]);
+    m.evbuf[t].push_back(ev);
+  }
+
+  // Phase A: the cross pairs this thread owns.
+  template <bool kEnergy>
+  void phase_a(ModelData<D>& m, int t, const StepCtx& c) const {
+    const double* X[D];
+    const double* V[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = m.x[a].data();
+      V[a] = m.v[a].data();
+    }
+    auto run_list = [&](const std::vector<std::array<std::uint32_t, 2>>& own, std::size_t base, PairList& L,
+                        std::vector<double>& slots) {
+      for (std::size_t s = 0; s < own.size(); ++s) {
+        const std::uint32_t p = own[s][0], k = own[s][1], j = L.j[k];
+        double F[D];
+        int broke = 0;
+        const double e =
+            pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k], &L.us[std::size_t{k} * kNs],
+                                law_for(m, L, k, p, j), c.dt, F, broke);
+        if (broke) [[unlikely]]
+          record(m, t, c.step, p, j, broke);
+        double* out = &slots[(base + s) * (D + 1)];
+        for (int a = 0; a < D; ++a) out[a] = F[a];
+        out[D] = e;
+      }
+    };
+    run_list(m.plan.own_b[t], m.plan.base_b[t], m.bonds, m.cross_b);
+    run_list(m.plan.own_c[t], m.plan.base_c[t], m.contacts, m.cross_c);
+  }
+
+  /// One velocity component through the damped leapfrog update; returns v(n+½).
+  template <Damping DK>
+  static inline double integrate(double vo, double F, double imass, double g, double dt, double c_visc,
+                                 double alpha, double& diss) {
+    if constexpr (DK == Damping::None) {
+      return vo + dt * (F * imass + g);
+    } else if constexpr (DK == Damping::Viscous) {
+      // F - c·v(n), v(n) = ½(v(n-½) + v(n+½)): solved for v(n+½) (artificial viscosity)
+      const double h = 0.5 * c_visc * dt * imass;
+      const double vn = (vo * (1 - h) + dt * (F * imass + g)) / (1 + h);
+      const double vm = 0.5 * (vo + vn);
+      diss += c_visc * vm * vm * dt;
+      return vn;
+    } else {
+      // local non-viscous damping (PFC/Yade): F_d = -α·|F|·sign(v)
+      const double ft = F + g / imass;
+      const double sgn = static_cast<double>((vo > 0) - (vo < 0));
+      const double fd = -alpha * std::abs(ft) * sgn;
+      const double vn = vo + dt * (ft + fd) * imass;
+      diss -= fd * vn * dt;
+      return vn;
+    }
+  }
+
+  // Bond pass of one block: the forces of the bonds owned by particles p0..pe-1 whose
+  // partner lies in this thread's range (j < e), before any of them moves. Bonds of a model
+  // with one material go through the law's batch form in a branch-free loop the compiler
+  // vectorises (bond_span: gathers of the endpoints' positions and velocities); the others
+  // (bonds breaking now, pairs of two materials, every bond of a law without a batch form)
+  // are redone by the reference kernel. Both evaluate the same expressions in the same
+  // order, so the results do not depend on which path a bond takes.
+  template <bool kEnergy, Rest kRest>
+  void bond_block(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0, std::ptrdiff_t pe,
+                  std::ptrdiff_t e) const {
+    const std::uint32_t k0 = m.bonds.off[p0], k1 = m.bonds.off[pe];
+    const std::size_t mq = k1 - k0;
+    Scratch<D>& S = m.scratch[t];
+    S.fit(mq);
+    const std::uint8_t* own = m.bond_owner.data() + k0;  // owner - p0
+    const std::uint32_t up0 = static_cast<std::uint32_t>(p0);
+    const double* X[D];
+    const double* V[D];
+    double* FB[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = m.x[a].data();
+      V[a] = m.v[a].data();
+      FB[a] = S.fb[a].data();
+    }
+    const std::uint32_t* bj = m.bonds.j.data() + k0;
+    double* EN = S.en.data();
+    std::uint8_t* slow = S.slow.data();
+    const double dt = c.dt;
+    const std::uint32_t ee = static_cast<std::uint32_t>(e);
+    if constexpr (HasLane<Law, kNs>) {
+      if (nmat == 1) {
+        // one pointer per axis (arrays of pointers keep GCC from vectorising the 3D loop)
+        const BondSpan sp{X[0],
+                          X[1],
+                          X[D - 1],
+                          V[0],
+                          V[1],
+                          V[D - 1],
+                          m.rad.data(),
+                          kRest == kPerBond ? m.bonds.r0.data() + k0 : nullptr,
+                          kRest == kPerBond ? m.bonds.kf.data() + k0 : nullptr,
+                          FB[0],
+                          FB[1],
+                          FB[D - 1],
+                          EN,
+                          m.bonds.us.data() + std::size_t{k0} * kNs,
+                          own,
+                          bj,
+                          m.bonds.st.data() + k0,
+                          slow,
+                          up0,
+                          ee};
+        bond_chunks<D, Law, kEnergy, kRest>(sp, laws[0], dt, m.uniform_diameter, mq);
+      } else {
+        std::fill(slow, slow + mq, std::uint8_t{1});
+      }
+    } else {
+      std::fill(slow, slow + mq, std::uint8_t{1});
+    }
+    // the reference kernel for the rest (cross bonds, j >= e, are phase A's)
+    for (std::size_t q = 0; q < mq; ++q) {
+      if (q % 8 == 0 && q + 8 <= mq) {  // skip 8 fast bonds at a time
+        std::uint64_t w;
+        std::memcpy(&w, slow + q, 8);
+        if (w == 0) {
+          q += 7;
+          continue;
+        }
+      }
+      if (!slow[q] || bj[q] >= ee) [[likely]]
+        continue;
+      const std::uint32_t p = up0 + own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
+      double F[D];
+      int broke = 0;
+      EN[q] =
+          pair_force<kEnergy>(X, V, m.rest_of(m.bonds, k, p, j), p, j, m.bonds.st[k],
+                              &m.bonds.us[std::size_t{k} * kNs], law_for(m, m.bonds, k, p, j), dt, F, broke);
+      for (int a = 0; a < D; ++a) FB[a][q] = F[a];
+      if (broke) [[unlikely]]
+        record(m, t, c.step, p, j, broke);
+    }
+  }
+
+  // Phase B: gather + update of this thread's particles, computing its internal pairs on
+  // the way (a pair (p, j) with j in range is computed when p is reached; j > p has not
+  // moved yet, and p's own force is complete once its own pairs are done).
+  template <Damping DK, bool kEnergy>
+  void phase_b(ModelData<D>& m, int t, const StepCtx& c) const {
+    const std::ptrdiff_t b = m.plan.begin[t], e = m.plan.begin[t + 1];
+    if (b >= e) return;
+    double* __restrict X[D];
+    double* __restrict V[D];
+    double* __restrict FA[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = m.x[a].data();
+      V[a] = m.v[a].data();
+      FA[a] = m.f[a].data();
+    }
+    const double* __restrict R = m.rad.data();
+    const double* __restrict IM = m.im.data();
+    const std::uint8_t* __restrict FL = m.flags.data();
+    const std::uint32_t* __restrict boff = m.bonds.off.data();
+    const std::uint32_t* __restrict bj = m.bonds.j.data();
+    const std::uint32_t* __restrict coff = m.contacts.off.data();
+    const std::uint32_t* __restrict cj = m.contacts.j.data();
+    std::uint8_t* __restrict cst = m.contacts.st.data();
+    double* __restrict cus = m.contacts.us.data();
+    const double dt = c.dt, cv = c.viscous_c, alpha = c.local_alpha;
+    const bool one_law = nmat == 1;
+    const Law law0 = laws[0];
+    const std::size_t nwalls = c.nwalls;
+    const Wall* W = c.walls;
+    const double* XC[D];
+    const double* VC[D];
+    for (int a = 0; a < D; ++a) {
+      XC[a] = X[a];
+      VC[a] = V[a];
+    }
+
+    // incoming cross contributions, ascending owner
+    for (const Incoming& in : m.plan.in[t]) {
+      const double* s = in.contact ? &m.cross_c[in.slot * (D + 1)] : &m.cross_b[in.slot * (D + 1)];
+      for (int a = 0; a < D; ++a) FA[a][in.target] -= s[a];
+    }
+    std::size_t cur_b = m.plan.base_b[t], cur_c = m.plan.base_c[t];
+    auto bc_it = std::lower_bound(m.bcp.begin(), m.bcp.end(), static_cast<std::uint32_t>(b),
+                                  [](const BcParticle& q, std::uint32_t i) { return q.index < i; });
+
+    for (std::ptrdiff_t blk = b / kBlock; blk * kBlock < e; ++blk) {
+      const std::ptrdiff_t pe = std::min(e, (blk + 1) * kBlock);
+      double work = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0;
+      if (!m.bonds.r0.empty())
+        bond_block<kEnergy, kPerBond>(m, t, c, blk * kBlock, pe, e);
+      else if (m.uniform_diameter > 0)
+        bond_block<kEnergy, kUniform>(m, t, c, blk * kBlock, pe, e);
+      else
+        bond_block<kEnergy, kRadiusSum>(m, t, c, blk * kBlock, pe, e);
+      // the block's bond forces and energies (pointers hoisted: the stores to f[] below
+      // would otherwise make the compiler reload them for every bond)
+      const std::uint32_t kb0 = boff[blk * kBlock];
+      const double* __restrict SF[D];
+      for (int a = 0; a < D; ++a) SF[a] = m.scratch[t].fb[a].data() - kb0;
+      const double* __restrict SE = m.scratch[t].en.data() - kb0;
+      for (std::ptrdiff_t p = blk * kBlock; p < pe; ++p) {
+        double F[D];
+        for (int a = 0; a < D; ++a) {
+          F[a] = FA[a][p];
+          FA[a][p] = 0.0;
+        }
+        // bonds owned by p, then contacts owned by p (fixed order)
+        for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
+          const std::uint32_t j = bj[k];
+          double Fb[D];
+          if (j >= static_cast<std::uint32_t>(e)) [[unlikely]] {
+            const double* s = &m.cross_b[cur_b++ * (D + 1)];
+            for (int a = 0; a < D; ++a) Fb[a] = s[a];
+            if constexpr (kEnergy) eb += s[D];
+          } else {
+            for (int a = 0; a < D; ++a) {
+              Fb[a] = SF[a][k];
+              FA[a][j] -= Fb[a];
+            }
+            if constexpr (kEnergy) eb += SE[k];
+          }
+          for (int a = 0; a < D; ++a) F[a] += Fb[a];
+        }
+        for (std::uint32_t k = coff[p]; k < coff[p + 1]; ++k) {
+          const std::uint32_t j = cj[k];
+          double Fb[D];
+          if (j >= static_cast<std::uint32_t>(e)) {
+            const double* s = &m.cross_c[cur_c++ * (D + 1)];
+            for (int a = 0; a < D; ++a) Fb[a] = s[a];
+            if constexpr (kEnergy) eb += s[D];
+          } else {
+            int broke = 0;
+            const Law& law = one_law ? law0 : law_of(m, p, j);
+            const double en = pair_force<kEnergy>(XC, VC, R[p] + R[j], p, j, cst[k],
+                                                  &cus[std::size_t{k} * kNs], law, dt, Fb, broke);
+            if constexpr (kEnergy) eb += en;
+            for (int a = 0; a < D; ++a) FA[a][j] -= Fb[a];
+          }
+          for (int a = 0; a < D; ++a) F[a] += Fb[a];
+        }
+        // rigid walls (penalty springs)
+        for (std::size_t w = 0; w < nwalls; ++w) {
+          double s = 0;
+          for (int a = 0; a < D; ++a) s += (X[a][p] - W[w].p[a]) * W[w].n[a];
+          const double delta = R[p] - s;
+          if (delta > 0) {
+            double pw = 0;
+            for (int a = 0; a < D; ++a) {
+              const double fw = W[w].k * delta * W[w].n[a];
+              F[a] += fw;
+              pw += fw * W[w].v[a];
+            }
+            work += pw * dt;  // the moving wall does work F·v_wall·dt
+            if constexpr (kEnergy) eb += 0.5 * W[w].k * delta * delta;
+          }
+        }
+        const double imass = IM[p];
+        double v2 = 0, vv = 0;
+        if (!FL[p]) [[likely]] {
+          double dp = 0;  // this particle's damping loss: one add per particle on the block's chain
+          for (int a = 0; a < D; ++a) {
+            const double vo = V[a][p];
+            const double vn = integrate<DK>(vo, F[a], imass, c.g[a], dt, cv, alpha, dp);
+            V[a][p] = vn;
+            X[a][p] += vn * dt;
+            v2 += vn * vn;
+            vv += vo * vn;
+          }
+          diss += dp;
+        } else {
+          BcParticle& bc = *bc_it++;
+          double fapp[3] = {0, 0, 0};
+          if (bc.history >= 0)
+            for (int a = 0; a < D; ++a) fapp[a] = c.hist[bc.history][a];
+          bc.w_ahead = 0;
+          for (int a = 0; a < D; ++a) {
+            bc.f_int[a] = F[a];
+            const double vo = V[a][p];
+            double vn;
+            if (bc.mode[a] == 0) {
+              vn = integrate<DK>(vo, F[a] + fapp[a], imass, c.g[a], dt, cv, alpha, diss);
+              work += fapp[a] * vn * dt;
+            } else {
+              if (bc.mode[a] == 1)
+                vn = 0;
+              else if (bc.mode[a] == 2)
+                vn = bc.value[a];
+              else
+                vn = (c.step + 1) % bc.every[a] == 0 ? bc.value[a] / dt : 0.0;
+              // reaction work, trapezoid rule: -½·F(n)·(Δx(n-½) + Δx(n+½))
+              const double dx = vn * dt;
+              const double fr = F[a] + fapp[a] + c.g[a] / imass;
+              work -= 0.5 * fr * (bc.dx_prev[a] + dx);
+              bc.w_ahead -= 0.5 * fr * dx;
+              bc.dx_prev[a] = dx;
+            }
+            V[a][p] = vn;
+            X[a][p] += vn * dt;
+            v2 += vn * vn;
+            vv += vo * vn;
+          }
+        }
+        vmax2 = std::max(vmax2, v2);
+        if constexpr (kEnergy) ke += 0.5 * vv / imass;
+      }
+      BlockAcc& A = m.acc[blk];
+      A.work += work;
+      A.dissipated += diss;
+      A.vmax2 = vmax2;
+      if constexpr (kEnergy) {
+        A.ke = ke;
+        A.eb = eb;
+      }
+    }
+  }
+
+  template <Damping DK, bool kEnergy>
+  void step_once(ModelData<D>& m, const StepCtx& c) const {
+    const int nt = m.plan.nt;
+    par::parallel_team(nt, [&](int t, int team) {
+      if (team != nt) {  // fewer threads than planned: run the plan serially on thread 0
+        if (t == 0) {
+          for (int s = 0; s < nt; ++s) phase_a<kEnergy>(m, s, c);
+          for (int s = 0; s < nt; ++s) phase_b<DK, kEnergy>(m, s, c);
+        }
+        return;
+      }
+      if (nt > 1) {
+        phase_a<kEnergy>(m, t, c);
+        par::team_barrier();
+      }
+      phase_b<DK, kEnergy>(m, t, c);
+    });
+  }
+
+  template <bool kEnergy>
+  void dispatch(ModelData<D>& m, const StepCtx& c) const {
+    switch (c.damping) {
+      case Damping::None:
+        step_once<Damping::None, kEnergy>(m, c);
+        break;
+      case Damping::Viscous:
+        step_once<Damping::Viscous, kEnergy>(m, c);
+        break;
+      case Damping::Local:
+        step_once<Damping::Local, kEnergy>(m, c);
+        break;
+    }
+  }
+};
+
+}  // namespace strata::dem::detail

@@ -1,0 +1,113 @@
+// Boundary conditions of the DEM: group specs resolved into per-particle records (fixed
+// axes, prescribed velocity, step displacement, force histories), and driven particles
+// (coupling). The conditions act in the step's update (strata/dem/detail/step_kernel.hpp);
+// walls are applied there as well.
+#include "model.hpp"
+
+#include <strata/core/error.hpp>
+
+#include <algorithm>
+
+namespace strata::dem::detail {
+
+std::array<double, 3> ForceHistory::at(double time) const {
+  if (t.empty()) return {};
+  if (time <= t.front()) return f.front();
+  if (time >= t.back()) return f.back();
+  const auto it = std::upper_bound(t.begin(), t.end(), time);
+  const std::size_t k = static_cast<std::size_t>(it - t.begin());
+  const double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
+  std::array<double, 3> r{};
+  for (int a = 0; a < 3; ++a) r[a] = (1 - w) * f[k - 1][a] + w * f[k][a];
+  return r;
+}
+
+// Resolves the group specs into per-particle records (later specs override earlier ones
+// per axis).
+template <int D>
+void Model<D>::resolve_bcs() {
+  std::vector<BcParticle> out;
+  const std::size_t N = n();
+  for (std::size_t p = 0; p < N; ++p) {
+    flags[p] = 0;
+    if (grp[p] == 0) continue;
+    BcParticle b;
+    b.index = static_cast<std::uint32_t>(p);
+    bool any = false;
+    for (const auto& s : bc_specs) {
+      if (!(grp[p] & s.mask)) continue;
+      any = true;
+      if (s.kind == BcSpec::Force) {
+        b.history = s.history;
+        continue;
+      }
+      for (int a = 0; a < D; ++a) {
+        if (!(s.axes & (1u << a))) continue;
+        if (s.kind == BcSpec::Fix) {
+          b.mode[a] = 1;
+          b.value[a] = 0;
+        } else if (s.kind == BcSpec::Velocity) {
+          b.mode[a] = 2;
+          b.value[a] = s.value[a];
+        } else {
+          b.mode[a] = 3;
+          b.value[a] = s.value[a];
+          b.every[a] = s.every;
+        }
+      }
+    }
+    if (!any) continue;
+    // keep the trapezoid history of particles that already had a condition
+    auto old = std::lower_bound(bcp.begin(), bcp.end(), b.index,
+                                [](const BcParticle& q, std::uint32_t i) { return q.index < i; });
+    if (old != bcp.end() && old->index == b.index) {
+      std::copy(old->dx_prev, old->dx_prev + 3, b.dx_prev);
+      std::copy(old->f_int, old->f_int + 3, b.f_int);
+    }
+    flags[p] = 1;
+    out.push_back(b);
+  }
+  bcp = std::move(out);
+  bcs_dirty = false;
+}
+
+template <int D>
+void Model<D>::set_kinematics(std::size_t ident, const std::array<double, 3>& u,
+                              const std::array<double, 3>& vel) {
+  STRATA_CHECK(initialised, Input, "set_kinematics: call initialise() first");
+  if (bcs_dirty) resolve_bcs();
+  const std::size_t i = index_of(ident, "set_kinematics");
+  auto it = std::lower_bound(bcp.begin(), bcp.end(), static_cast<std::uint32_t>(i),
+                             [](const BcParticle& q, std::uint32_t k) { return q.index < k; });
+  STRATA_CHECK(it != bcp.end() && it->index == i, Input,
+               "set_kinematics: particle {} is not driven (put it in a group passed to drive())", ident);
+  for (int a = 0; a < D; ++a) {
+    if (it->mode[a] != 2) continue;
+    x[a][i] = x0[a][i] + u[a];
+    v[a][i] = vel[a];
+    it->value[a] = vel[a];
+  }
+  energy_valid = false;
+}
+
+template <int D>
+void Model<D>::kinematics(std::size_t ident, std::array<double, 3>& u, std::array<double, 3>& vel) const {
+  const std::size_t i = index_of(ident, "kinematics");
+  u = {0, 0, 0};
+  vel = {0, 0, 0};
+  for (int a = 0; a < D; ++a) {
+    u[a] = initialised ? x[a][i] - x0[a][i] : 0.0;
+    vel[a] = v[a][i];
+  }
+}
+
+#define STRATA_DEM_INSTANTIATE(D)                                                   \
+  template void Model<D>::resolve_bcs();                                            \
+  template void Model<D>::set_kinematics(std::size_t, const std::array<double, 3>&, \
+                                         const std::array<double, 3>&);             \
+  template void Model<D>::kinematics(std::size_t, std::array<double, 3>&, std::array<double, 3>&) const;
+STRATA_DEM_INSTANTIATE(2)
+STRATA_DEM_INSTANTIATE(3)
+#undef STRATA_DEM_INSTANTIATE
+
+}  // namespace strata::dem::detail

@@ -1,0 +1,263 @@
+// Critical time step of the DEM: 2/√λ with λ the largest eigenvalue of M⁻¹K of the bonded
+// lattice, from a rigorous node-local bound and a Lanczos estimate (docs/dem.md).
+#include "model.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace strata::dem::detail {
+namespace {
+
+// Deterministic pseudo-random number in [-1, 1) from an integer (splitmix64).
+double hash_unit(std::uint64_t k) {
+  k += 0x9e3779b97f4a7c15ull;
+  k = (k ^ (k >> 30)) * 0xbf58476d1ce4e5b9ull;
+  k = (k ^ (k >> 27)) * 0x94d049bb133111ebull;
+  k ^= k >> 31;
+  return static_cast<double>(k >> 11) * 0x1.0p-52 - 1.0;
+}
+
+}  // namespace
+
+// Stiffnesses of pair k of L: the materials' law, scaled by an intact eccentric-lattice
+// bond's stiffness factor.
+template <int D>
+PairStiffness Model<D>::stiffness_of(const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
+  PairStiffness s = stiff[static_cast<std::size_t>(mat[p]) * nmat + mat[j]];
+  if (scaled(L, k)) {
+    s.kn *= L.kf[k];
+    s.ks *= L.kf[k];
+  }
+  return s;
+}
+
+// K·u over intact bonds and touching contacts: (K u)_i = Σ_b K_b (u_i - u_j),
+// K_b = Kn·n nᵀ + Ks·(I - n nᵀ). The stiff pairs owned by particle p:
+template <int D>
+template <typename Fn>
+void Model<D>::stiff_pairs_of(std::size_t p, Fn&& fn) const {
+  for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
+    const std::uint32_t j = bonds.j[k];
+    const double r = rest_of(bonds, k, p, j);
+    const bool on = (bonds.st[k] & pair_state::kKindMask) == pair_state::kIntact || dist2(p, j) < r * r;
+    if (on) fn(p, j, stiffness_of(bonds, k, p, j));
+  }
+  for (std::uint32_t k = contacts.off[p]; k < contacts.off[p + 1]; ++k) {
+    const std::uint32_t j = contacts.j[k];
+    if (dist2(p, j) < (rad[p] + rad[j]) * (rad[p] + rad[j])) fn(p, j, stiffness_of(contacts, k, p, j));
+  }
+}
+
+// Unit vector from p to j.
+template <int D>
+void Model<D>::unit_normal(std::size_t p, std::uint32_t j, double nv[D]) const {
+  double l2 = 0;
+  for (int a = 0; a < D; ++a) {
+    nv[a] = x[a][j] - x[a][p];
+    l2 += nv[a] * nv[a];
+  }
+  const double l = std::sqrt(l2);
+  for (int a = 0; a < D; ++a) nv[a] /= l;
+}
+
+template <int D>
+void Model<D>::pair_matrix(std::size_t p, std::uint32_t j, const PairStiffness& k, double K[D][D]) const {
+  double nv[D];
+  unit_normal(p, j, nv);
+  for (int a = 0; a < D; ++a)
+    for (int b2 = 0; b2 < D; ++b2) K[a][b2] = (k.kn - k.ks) * nv[a] * nv[b2] + (a == b2 ? k.ks : 0.0);
+}
+
+// Largest stiffness of the model's pair laws.
+template <int D>
+double Model<D>::max_stiffness() const {
+  double kmax = 0;
+  for (const PairStiffness& s : stiff) kmax = std::max(kmax, std::max(s.kn, s.ks));
+  return kmax;
+}
+
+template <int D>
+void Model<D>::compute_critical_dt() {
+  const std::size_t N = n();
+  // rigorous bound: uᵀKu <= Σ_b 2(u_iᵀK_b u_i + u_jᵀK_b u_j) => λ <= max_i λmax(2ΣK_b)/m_i
+  // (ΣK_b kept in float, upper triangle only, to keep the set-up's memory peak low; the
+  // result is raised by 1e-5 to cover the float round-off)
+  constexpr int kSym = D * (D + 1) / 2;
+  std::vector<float> S(N * kSym, 0.0f);
+  std::size_t npairs = 0;
+  for (std::size_t p = 0; p < N; ++p)
+    stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
+      double K[D][D];
+      pair_matrix(pp, j, k, K);
+      int e = 0;
+      for (int a = 0; a < D; ++a)
+        for (int b2 = a; b2 < D; ++b2, ++e) {
+          S[pp * kSym + e] += static_cast<float>(K[a][b2]);
+          S[std::size_t{j} * kSym + e] += static_cast<float>(K[a][b2]);
+        }
+      ++npairs;
+    });
+  double bound = 0;
+  for (std::size_t i = 0; i < N; ++i) {
+    Eigen::Matrix<double, D, D> M;
+    int e = 0;
+    for (int a = 0; a < D; ++a)
+      for (int b2 = a; b2 < D; ++b2, ++e) M(a, b2) = M(b2, a) = S[i * kSym + e];
+    const double lm = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>>(M, Eigen::EigenvaluesOnly)
+                          .eigenvalues()(D - 1);
+    bound = std::max(bound, 2 * lm * im[i] * (1 + 1e-5));
+  }
+  S.clear();
+  S.shrink_to_fit();
+  const double kmax = max_stiffness();
+  // contacts may form later: a particle touching z neighbours (6 in 2D, 12 in 3D)
+  // through contacts of stiffness <= kmax has λ <= 2·z·kmax/m (same bound)
+  double contact_bound = 0;
+  if (contacts_on) {
+    const double imax = *std::max_element(im.begin(), im.end());
+    contact_bound = 2.0 * (D == 2 ? 6 : 12) * kmax * imax;
+  }
+  lam_bound = bound;
+  lam_est = npairs > 0 ? lanczos() : 0.0;
+  double lam = npairs > 0 ? std::min(bound, 1.01 * lam_est) : contact_bound;
+  if (npairs == 0) lam_bound = contact_bound;
+  dt_crit = lam > 0 ? 2.0 / std::sqrt(lam) : std::numeric_limits<double>::infinity();
+}
+
+// λmax(M^-½ K M^-½) by Lanczos without reorthogonalisation (the largest Ritz value
+// converges first and stays below λmax), deterministic start vector.
+template <int D>
+double Model<D>::lanczos() const {
+  // up to 600 unknowns: full reorthogonalisation and as many steps as unknowns (exact
+  // extreme eigenvalue); otherwise 120 steps (60 above 200,000 particles), with float
+  // vectors above 20,000 unknowns to keep the set-up's memory peak low
+  return n() * D <= 20000 ? lanczos_impl<double>() : lanczos_impl<float>();
+}
+
+// Set-up loops over fixed chunks of particles: fn(c) for c in [0, nc), the chunks split
+// evenly over the threads (one thread for small models, as for_range).
+template <int D>
+template <typename F>
+void Model<D>::for_chunks(std::ptrdiff_t nc, F&& fn) const {
+  const int nt = small_model() ? 1 : static_cast<int>(std::min<std::ptrdiff_t>(par::threads(), nc));
+  par::parallel_team(nt, [&](int t, int team) {
+    for (std::ptrdiff_t c = nc * t / team; c < nc * (t + 1) / team; ++c) fn(c);
+  });
+}
+
+template <int D>
+template <typename Real>
+double Model<D>::lanczos_impl() const {
+  const std::size_t N = n(), nd = N * D;
+  const bool full = nd <= 600;
+  const int kmax = static_cast<int>(full ? nd : std::min<std::size_t>(nd, N > 200000 ? 60 : 120));
+  std::vector<Real> q(nd), qp(nd, Real(0)), w(nd);
+  double nrm = 0;
+  for (std::size_t i = 0; i < nd; ++i) {
+    const double h = hash_unit(i);
+    nrm += h * h;
+  }
+  nrm = std::sqrt(nrm);
+  for (std::size_t i = 0; i < nd; ++i) q[i] = static_cast<Real>(hash_unit(i) / nrm);
+  // w = M^-½ K M^-½ q in parallel, the same for any thread count: each chunk of particles
+  // sums its pairs into its own entries in pair order; the parts that land in later
+  // chunks are kept per chunk and subtracted afterwards, in chunk order.
+  constexpr std::size_t kChunkP = 1024;
+  struct Cross {
+    std::uint32_t j;
+    Real t[D];
+  };
+  const std::size_t nc = (N + kChunkP - 1) / kChunkP;
+  std::vector<std::vector<Cross>> cross(nc);
+  auto matvec = [&] {
+    for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
+      const std::size_t lo = static_cast<std::size_t>(c) * kChunkP, hi = std::min(N, lo + kChunkP);
+      std::fill(w.begin() + static_cast<std::ptrdiff_t>(lo * D),
+                w.begin() + static_cast<std::ptrdiff_t>(hi * D), Real(0));
+      auto& out = cross[static_cast<std::size_t>(c)];
+      out.clear();
+      for (std::size_t p = lo; p < hi; ++p)
+        stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
+          // K_b du = Ks·du + (Kn - Ks)·n (n·du)
+          double nv[D];
+          unit_normal(pp, j, nv);
+          const double sp = std::sqrt(im[pp]), sj = std::sqrt(im[j]);
+          double du[D], ndu = 0;
+          for (int a = 0; a < D; ++a) {
+            du[a] = q[pp * D + a] * sp - q[std::size_t{j} * D + a] * sj;
+            ndu += nv[a] * du[a];
+          }
+          Cross cr{j, {}};
+          for (int a = 0; a < D; ++a) {
+            const double t = k.ks * du[a] + (k.kn - k.ks) * ndu * nv[a];
+            w[pp * D + a] += static_cast<Real>(t * sp);
+            cr.t[a] = static_cast<Real>(t * sj);
+          }
+          if (j < hi) {
+            for (int a = 0; a < D; ++a) w[std::size_t{j} * D + a] -= cr.t[a];
+          } else {
+            out.push_back(cr);
+          }
+        });
+    });
+    for (const auto& out : cross)
+      for (const Cross& cr : out)
+        for (int a = 0; a < D; ++a) w[std::size_t{cr.j} * D + a] -= cr.t[a];
+  };
+  const auto ndi = static_cast<std::ptrdiff_t>(nd);
+  std::vector<double> al, be, basis;
+  double beta = 0;
+  for (int it = 0; it < kmax; ++it) {
+    if (full) basis.insert(basis.end(), q.begin(), q.end());
+    matvec();
+    const double alpha =
+        par::parallel_sum<double>(ndi, [&](std::ptrdiff_t i) { return static_cast<double>(w[i]) * q[i]; });
+    par::parallel_for(
+        ndi, [&](std::ptrdiff_t i) { w[i] = static_cast<Real>(w[i] - alpha * q[i] - beta * qp[i]); });
+    double b2 =
+        par::parallel_sum<double>(ndi, [&](std::ptrdiff_t i) { return static_cast<double>(w[i]) * w[i]; });
+    if (full) {
+      for (int pass = 0; pass < 2; ++pass)
+        for (int c = 0; c <= it; ++c) {
+          const double* qc = &basis[static_cast<std::size_t>(c) * nd];
+          double dot = 0;
+          for (std::size_t i = 0; i < nd; ++i) dot += w[i] * qc[i];
+          for (std::size_t i = 0; i < nd; ++i) w[i] = static_cast<Real>(w[i] - dot * qc[i]);
+        }
+      b2 = 0;
+      for (std::size_t i = 0; i < nd; ++i) b2 += static_cast<double>(w[i]) * w[i];
+    }
+    al.push_back(alpha);
+    beta = std::sqrt(b2);
+    if (beta < 1e-12 * std::abs(alpha) || it == kmax - 1) break;
+    be.push_back(beta);
+    par::parallel_for(ndi, [&](std::ptrdiff_t i) {
+      qp[i] = q[i];
+      q[i] = static_cast<Real>(w[i] / beta);
+    });
+  }
+  const int k = static_cast<int>(al.size());
+  Eigen::VectorXd dg(k), sd(std::max(k - 1, 0));
+  for (int i = 0; i < k; ++i) dg(i) = al[i];
+  for (int i = 0; i + 1 < k; ++i) sd(i) = be[i];
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es;
+  es.computeFromTridiagonal(dg, sd, Eigen::EigenvaluesOnly);
+  return es.eigenvalues()(k - 1);
+}
+
+#define STRATA_DEM_INSTANTIATE(D)                                                                            \
+  template PairStiffness Model<D>::stiffness_of(const PairList&, std::uint32_t, std::size_t, std::size_t)    \
+      const;                                                                                                 \
+  template void Model<D>::unit_normal(std::size_t, std::uint32_t, double*) const;                            \
+  template void Model<D>::pair_matrix(std::size_t, std::uint32_t, const PairStiffness&, double(*)[D]) const; \
+  template double Model<D>::max_stiffness() const;                                                           \
+  template void Model<D>::compute_critical_dt();                                                             \
+  template double Model<D>::lanczos() const;
+STRATA_DEM_INSTANTIATE(2)
+STRATA_DEM_INSTANTIATE(3)
+#undef STRATA_DEM_INSTANTIATE
+
+}  // namespace strata::dem::detail

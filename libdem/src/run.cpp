@@ -1,0 +1,211 @@
+// Set-up and run loop of the DEM: the choice of the pair law (by the materials' law name,
+// through the registry), initialise(), the time-step check, the loop over steps with the
+// Verlet-list rebuilds and the blow-up check, and the merge of break events.
+#include "model.hpp"
+
+#include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace strata::dem::detail {
+
+Material pair_material(const Material& a, const Material& b) {
+  if (&a == &b) return a;
+  auto hm = [](double p, double q) { return p + q > 0 ? 2 * p * q / (p + q) : 0.0; };
+  Material m = a;
+  m.kn = hm(a.kn, b.kn);
+  m.ks = hm(a.ks, b.ks);
+  m.friction = std::min(a.friction, b.friction);
+  m.tensile_strength = std::min(a.tensile_strength, b.tensile_strength);
+  m.shear_strength = std::min(a.shear_strength, b.shear_strength);
+  m.friction_strengthens_bonds = a.friction_strengthens_bonds && b.friction_strengthens_bonds;
+  return m;
+}
+
+// The pair law: the registry's engine for the materials' law name, and its nmat × nmat
+// table of pair laws and stiffnesses.
+template <int D>
+void Model<D>::refresh_laws() {
+  nmat = static_cast<int>(materials.size());
+  stiff.clear();
+  if (nmat == 0) return;
+  const std::string& name = materials[0].law;
+  for (const Material& m : materials)
+    STRATA_CHECK(m.law == name, Input,
+                 "the materials name the pair laws '{}' and '{}': all materials of a model must use one law",
+                 name, m.law);
+  if (!engine || name != engine->name()) {
+    const LawEntry* e = find_law(name);
+    if (!e) {
+      std::string known;
+      for (const LawEntry* k : all_laws()) known += (known.empty() ? "" : ", ") + k->name;
+      fail(ErrorKind::Input, "no pair law named '{}' (known: {})", name, known);
+    }
+    if constexpr (D == 2)
+      engine = e->make2();
+    else
+      engine = e->make3();
+  }
+  std::vector<Material> pm;
+  for (int a = 0; a < nmat; ++a)
+    for (int b = 0; b < nmat; ++b) pm.push_back(pair_material(materials[a], materials[b]));
+  engine->set_materials(pm, nmat);
+  for (int a = 0; a < nmat; ++a)
+    for (int b = 0; b < nmat; ++b) stiff.push_back(engine->stiffness(a, b));
+}
+
+template <int D>
+void Model<D>::initialise() {
+  STRATA_CHECK(n() > 0, Input, "initialise: the model has no particles");
+  STRATA_CHECK(!materials.empty(), Input, "initialise: no material");
+  STRATA_CHECK(settings.dt > 0 && std::isfinite(settings.dt), Input, "dt = {} must be > 0 (s)", settings.dt);
+  STRATA_CHECK(settings.local_alpha >= 0 && settings.local_alpha < 1, Input,
+               "local_alpha = {} must be in [0, 1)", settings.local_alpha);
+  STRATA_CHECK(settings.viscous_c >= 0, Input, "viscous_c = {} must be >= 0 (N·s/m)", settings.viscous_c);
+  if (!sorted) sort_particles();
+  refresh_laws();
+  resolve_bcs();
+  acc.assign(static_cast<std::size_t>((n() + kBlock - 1) / kBlock), BlockAcc{});
+  const double rmax = *std::max_element(rad.begin(), rad.end());
+  skin = settings.skin > 0 ? settings.skin : 0.5 * rmax;
+  contacts_on = settings.contact_detection;
+  if (contacts_on) rebuild_contacts();
+  compute_critical_dt();
+  check_dt();
+  for (int a = 0; a < D; ++a) {  // allocated after the time-step estimate's temporaries
+    x0[a] = x[a];
+    f[a].assign(n(), 0.0);
+  }
+  // energy budget of the blow-up check: initial kinetic + stored energy
+  energy_budget0 = dry_kinetic() + dry_bond_energy();
+  energy_tiny = static_cast<double>(n()) * 0.5 * max_stiffness() * std::pow(1e-6 * 2 * rmax, 2);
+  build_plan(par::threads());
+  initialised = true;
+  last_good = step_;
+}
+
+template <int D>
+void Model<D>::check_dt() {
+  if (!initialised && dt_crit == 0) return;  // checked by initialise()
+  if (settings.dt > dt_crit) {
+    if (!settings.allow_unstable)
+      fail(ErrorKind::Numerical,
+           "dt = {:.4g} s exceeds the critical time step {:.4g} s (ratio {:.3f}); lower dt or set "
+           "allow_unstable",
+           settings.dt, dt_crit, settings.dt / dt_crit);
+    log::warn("dt = {:.4g} s exceeds the critical time step {:.4g} s (ratio {:.3f}): the run may blow up",
+              settings.dt, dt_crit, settings.dt / dt_crit);
+  }
+}
+
+// The step's context that does not change from step to step.
+template <int D>
+StepCtx Model<D>::step_context() const {
+  StepCtx c;
+  c.dt = settings.dt;
+  c.t = 0;
+  for (int a = 0; a < 3; ++a) c.g[a] = settings.gravity[a];
+  c.step = 0;
+  c.hist.resize(histories.size());
+  c.damping = settings.damping;
+  c.viscous_c = settings.viscous_c;
+  c.local_alpha = settings.local_alpha;
+  c.walls = walls.data();
+  c.nwalls = walls.size();
+  return c;
+}
+
+template <int D>
+void Model<D>::run(std::int64_t steps, bool energies_at_end) {
+  STRATA_CHECK(initialised, Input, "run: call initialise() first");
+  STRATA_CHECK(steps >= 0, Input, "run: steps = {} must be >= 0", steps);
+  if (steps == 0) return;
+  if (bcs_dirty) resolve_bcs();
+  if (budget_dirty) {  // initial conditions changed: the energy budget grows with them
+    energy_budget0 = std::max(energy_budget0, dry_kinetic() + dry_bond_energy());
+    budget_dirty = false;
+  }
+  const int nt = par::threads();
+  if (plan_dirty || plan.nt != effective_threads(nt)) build_plan(nt);
+  StepCtx c = step_context();
+  const int check = settings.energy_check_every;
+  for (std::int64_t s = 0; s < steps; ++s) {
+    c.step = step_;
+    c.t = time_;
+    for (std::size_t h = 0; h < histories.size(); ++h) c.hist[h] = histories[h].at(time_);
+    const bool check_now = check > 0 && (step_ + 1) % check == 0;
+    const bool energy = (energies_at_end && s == steps - 1) || check_now;
+    engine->step(*this, c, energy);
+    double vmax2 = 0;
+    for (const BlockAcc& A : acc) vmax2 = std::max(vmax2, A.vmax2);
+    for (Wall& w : walls)
+      for (int a = 0; a < 3; ++a) w.p[a] += w.v[a] * c.dt;
+    ++step_;
+    time_ += c.dt;
+    energy_valid = energy;
+    if (contacts_on) {
+      disp_bound += std::sqrt(vmax2) * c.dt;
+      if (!(disp_bound < 0.5 * skin)) {  // Verlet-skin rule (also catches NaN)
+        if (!std::isfinite(disp_bound)) check_blowup(true);
+        rebuild_contacts();
+        build_plan(nt);
+      }
+    }
+    if (check_now) check_blowup(false);
+  }
+  merge_events();
+}
+
+template <int D>
+void Model<D>::check_blowup(bool nan_seen) {
+  double ke = 0, eb = 0;
+  for (const BlockAcc& A : acc) {
+    ke += A.ke;
+    eb += A.eb;
+  }
+  const double w = std::abs(external_work());
+  const double budget = 10 * (energy_budget0 + w) + energy_tiny;
+  if (nan_seen || !std::isfinite(ke) || !std::isfinite(eb) || (energy_valid && ke > budget)) {
+    merge_events();
+    fail(ErrorKind::Numerical,
+         "blow-up at step {}, t={:.6g} s: kinetic energy {:.4g} J, stored energy {:.4g} J, work input "
+         "{:.4g} J "
+         "(dt = {:.4g} s, critical dt = {:.4g} s); last good step {}",
+         step_, time_, ke, eb, w, settings.dt, dt_crit, last_good);
+  }
+  last_good = step_;
+}
+
+template <int D>
+void Model<D>::merge_events() {
+  std::vector<BreakEvent> fresh;
+  for (auto& buf : evbuf) {
+    for (const RawEvent& r : buf)
+      fresh.push_back(
+          {r.step, {r.pos[0], r.pos[1], r.pos[2]}, static_cast<BreakMode>(r.mode), id[r.i], id[r.j]});
+    buf.clear();
+  }
+  std::sort(fresh.begin(), fresh.end(), [](const BreakEvent& a, const BreakEvent& b) {
+    if (a.step != b.step) return a.step < b.step;
+    if (a.id_i != b.id_i) return a.id_i < b.id_i;
+    return a.id_j < b.id_j;
+  });
+  events.insert(events.end(), fresh.begin(), fresh.end());
+}
+
+#define STRATA_DEM_INSTANTIATE(D)                  \
+  template void Model<D>::refresh_laws();          \
+  template void Model<D>::initialise();            \
+  template void Model<D>::check_dt();              \
+  template StepCtx Model<D>::step_context() const; \
+  template void Model<D>::run(std::int64_t, bool); \
+  template void Model<D>::check_blowup(bool);      \
+  template void Model<D>::merge_events();
+STRATA_DEM_INSTANTIATE(2)
+STRATA_DEM_INSTANTIATE(3)
+#undef STRATA_DEM_INSTANTIATE
+
+}  // namespace strata::dem::detail

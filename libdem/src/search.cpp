@@ -1,0 +1,313 @@
+// Neighbour search of the DEM: the cell grid, bonding of touching pairs or of bonds given as
+// data, the Verlet contact list, and the thread plan of the step (which pairs cross from one
+// thread's range into a later one's).
+#include "model.hpp"
+
+#include <strata/core/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace strata::dem::detail {
+
+template <int D>
+std::int64_t Model<D>::Grid::cell_of(const double* p) const {
+  std::int64_t c = 0, mul = 1;
+  for (int a = 0; a < D; ++a) {
+    std::int64_t q = static_cast<std::int64_t>((p[a] - lo[a]) / h);
+    q = std::clamp<std::int64_t>(q, 0, dims[a] - 1);
+    c += q * mul;
+    mul *= dims[a];
+  }
+  return c;
+}
+
+template <int D>
+typename Model<D>::Grid Model<D>::build_grid(double h) const {
+  Grid g;
+  const std::size_t N = n();
+  double hi[3];
+  for (int a = 0; a < D; ++a) {
+    const auto [mn, mx] = std::minmax_element(x[a].begin(), x[a].end());
+    g.lo[a] = *mn;
+    hi[a] = *mx;
+  }
+  g.h = h;
+  for (;;) {  // keep the number of cells O(N)
+    double cells = 1;
+    for (int a = 0; a < D; ++a) {
+      g.dims[a] = static_cast<std::int64_t>((hi[a] - g.lo[a]) / g.h) + 1;
+      cells *= static_cast<double>(g.dims[a]);
+    }
+    if (cells <= 4.0 * static_cast<double>(N) + 64) break;
+    g.h *= 1.5;
+  }
+  std::int64_t ncell = 1;
+  for (int a = 0; a < D; ++a) ncell *= g.dims[a];
+  std::vector<std::uint32_t> cell(N);
+  for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) {
+    double p[3];
+    for (int a = 0; a < D; ++a) p[a] = x[a][i];
+    cell[i] = static_cast<std::uint32_t>(g.cell_of(p));
+  });
+  g.start.assign(static_cast<std::size_t>(ncell) + 1, 0);
+  for (std::size_t i = 0; i < N; ++i) g.start[cell[i] + 1]++;
+  for (std::int64_t c = 0; c < ncell; ++c) g.start[c + 1] += g.start[c];
+  g.list.resize(N);
+  std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
+  for (std::size_t i = 0; i < N; ++i) g.list[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
+  return g;
+}
+
+// Calls fn(q) for every particle q > p in the cells around p.
+template <int D>
+template <typename Fn>
+void Model<D>::for_neighbours(const Grid& g, std::size_t p, Fn&& fn) const {
+  std::int64_t c[3] = {0, 0, 0};
+  for (int a = 0; a < D; ++a)
+    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[a][p] - g.lo[a]) / g.h), 0, g.dims[a] - 1);
+  const int rz = D == 3 ? 1 : 0;
+  for (int dz = -rz; dz <= rz; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const std::int64_t q[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
+        bool ok = true;
+        for (int a = 0; a < D; ++a) ok = ok && q[a] >= 0 && q[a] < g.dims[a];
+        if (!ok) continue;
+        const std::int64_t cell = q[0] + g.dims[0] * (q[1] + (D == 3 ? g.dims[1] * q[2] : 0));
+        for (std::uint32_t k = g.start[cell]; k < g.start[cell + 1]; ++k) {
+          const std::uint32_t o = g.list[k];
+          if (o > p) fn(o);
+        }
+      }
+}
+
+// Builds a CSR pair list of owners p with partners q > p passing accept(p, q), in
+// parallel and deterministically (rows sorted by partner).
+template <int D>
+template <typename Accept>
+PairList Model<D>::build_pairs(const Grid& g, Accept&& accept) const {
+  const std::size_t N = n();
+  PairList L;
+  L.off.assign(N + 1, 0);
+  for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
+    std::uint32_t c = 0;
+    for_neighbours(g, static_cast<std::size_t>(p), [&](std::uint32_t q) { c += accept(p, q) ? 1 : 0; });
+    L.off[p + 1] = c;
+  });
+  for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
+  L.j.resize(L.off[N]);
+  for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
+    std::uint32_t k = L.off[p];
+    for_neighbours(g, static_cast<std::size_t>(p), [&](std::uint32_t q) {
+      if (accept(p, q)) L.j[k++] = q;
+    });
+    std::sort(L.j.begin() + L.off[p], L.j.begin() + L.off[p + 1]);
+  });
+  return L;
+}
+
+template <int D>
+void Model<D>::bond_touching_pairs(double tol) {
+  STRATA_CHECK(tol >= 0 && tol < 1, Input, "bond_touching_pairs: tolerance {} must be in [0, 1)", tol);
+  STRATA_CHECK(!initialised, Input, "bond_touching_pairs: call it before initialise()");
+  if (n() == 0) return;
+  if (!sorted) sort_particles();
+  const double rmax = *std::max_element(rad.begin(), rad.end());
+  const Grid g = build_grid(2 * rmax * (1 + tol));
+  const double f1 = (1 + tol) * (1 + tol);
+  PairList L = build_pairs(g, [&](std::size_t p, std::uint32_t q) {
+    const double r = rad[p] + rad[q];
+    return dist2(p, q) <= r * r * f1;
+  });
+  L.st.assign(L.size(), pair_state::kIntact);
+  L.us.assign(L.size() * kNs, 0.0);
+  bonds = std::move(L);
+}
+
+template <int D>
+void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector<std::uint32_t>& bj,
+                         const std::vector<double>& factor) {
+  STRATA_CHECK(!initialised, Input, "set_bonds: call it before initialise()");
+  STRATA_CHECK(bi.size() == bj.size() && (factor.empty() || factor.size() == bi.size()), Input,
+               "set_bonds: {} first ends, {} second ends and {} factors (need equal counts; factors may be "
+               "omitted)",
+               bi.size(), bj.size(), factor.size());
+  STRATA_CHECK(bonds.size() == 0, Input,
+               "set_bonds: the model has bonds already (call it once, instead of "
+               "bond_touching_pairs)");
+  if (n() == 0) return;
+  const std::size_t N = n();
+  if (!sorted) sort_particles();
+  const auto inv = index_of_id();
+  // bonds by (owner, partner) in internal indices, checked
+  std::vector<std::array<std::uint32_t, 2>> pairs(bi.size());
+  for (std::size_t b = 0; b < bi.size(); ++b) {
+    STRATA_CHECK(bi[b] < N && bj[b] < N && bi[b] != bj[b], Input,
+                 "set_bonds: bond {} joins particles {} and {} (ids must differ and be < {})", b, bi[b],
+                 bj[b], N);
+    const double f = factor.empty() ? 1.0 : factor[b];
+    STRATA_CHECK(f > 0 && f <= 1, Input, "set_bonds: stiffness factor {} of bond {} must be in (0, 1]", f, b);
+    std::uint32_t p = inv[bi[b]], q = inv[bj[b]];
+    if (p > q) std::swap(p, q);
+    pairs[b] = {p, q};
+  }
+  std::vector<std::uint32_t> order(pairs.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return pairs[a] < pairs[b]; });
+  PairList L;
+  L.off.assign(N + 1, 0);
+  L.j.resize(pairs.size());
+  L.r0.resize(pairs.size());
+  L.kf.resize(pairs.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const auto o = order[k];
+    STRATA_CHECK(k == 0 || pairs[o] != pairs[order[k - 1]], Input,
+                 "set_bonds: particles {} and {} are bonded twice", id[pairs[o][0]], id[pairs[o][1]]);
+    L.off[pairs[o][0] + 1]++;
+    L.j[k] = pairs[o][1];
+    L.r0[k] = std::sqrt(dist2(pairs[o][0], pairs[o][1]));  // rest length: the initial distance
+    L.kf[k] = factor.empty() ? 1.0 : factor[o];
+  }
+  for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
+  L.st.assign(L.size(), pair_state::kIntact);
+  L.us.assign(L.size() * kNs, 0.0);
+  bonds = std::move(L);
+}
+
+template <int D>
+bool Model<D>::bonded(std::size_t p, std::uint32_t q) const {
+  for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
+    if (bonds.j[k] == q) return true;
+  return false;
+}
+
+// Rebuilds the contact candidate list (pairs within ri + rj + skin, not bonded) and
+// carries each surviving pair's state and shear displacement by matching (i, j).
+template <int D>
+void Model<D>::rebuild_contacts() {
+  const std::size_t N = n();
+  const double rmax = *std::max_element(rad.begin(), rad.end());
+  const Grid g = build_grid(2 * rmax + skin);
+  PairList L = build_pairs(g, [&](std::size_t p, std::uint32_t q) {
+    const double r = rad[p] + rad[q] + skin;
+    return dist2(p, q) < r * r && !bonded(p, q);
+  });
+  L.st.assign(L.size(), pair_state::kContact);
+  L.us.assign(L.size() * kNs, 0.0);
+  if (contacts.size() > 0) {
+    for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
+      std::uint32_t a = contacts.off[p], b = L.off[p];
+      const std::uint32_t ae = contacts.off[p + 1], be = L.off[p + 1];
+      while (a < ae && b < be) {
+        if (contacts.j[a] < L.j[b]) {
+          ++a;
+        } else if (L.j[b] < contacts.j[a]) {
+          ++b;
+        } else {
+          L.st[b] = contacts.st[a];
+          for (int s = 0; s < kNs; ++s) L.us[b * kNs + s] = contacts.us[a * kNs + s];
+          ++a;
+          ++b;
+        }
+      }
+    });
+  }
+  contacts = std::move(L);
+  disp_bound = 0;
+  plan_dirty = true;
+}
+
+// Thread plan: contiguous ranges of whole blocks; pairs whose partner lies in a later
+// thread's range ("cross pairs") are computed first (phase A), stored in slots, and
+// gathered by both ends in the same order as in a one-thread run.
+template <int D>
+int Model<D>::effective_threads(int nt) const {
+  const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((n() + kBlock - 1) / kBlock);
+  const std::ptrdiff_t by_size =
+      static_cast<std::ptrdiff_t>(n()) / std::max(1, settings.min_particles_per_thread);
+  return static_cast<int>(
+      std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>({nt, nb, std::max<std::ptrdiff_t>(by_size, 1)})));
+}
+
+template <int D>
+void Model<D>::build_plan(int nt) {
+  const std::size_t N = n();
+  const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((N + kBlock - 1) / kBlock);
+  nt = effective_threads(nt);
+  plan = Plan{};
+  plan.nt = nt;
+  plan.begin.resize(nt + 1);
+  for (int t = 0; t <= nt; ++t)
+    plan.begin[t] = std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(N), nb * t / nt * kBlock);
+  plan.own_b.assign(nt, {});
+  plan.own_c.assign(nt, {});
+  plan.in.assign(nt, {});
+  plan.base_b.assign(nt + 1, 0);
+  plan.base_c.assign(nt + 1, 0);
+  evbuf.resize(nt);
+  scratch.resize(nt);
+  if (nt > 1) {
+    for (int t = 0; t < nt; ++t) {
+      const auto b = plan.begin[t], e = plan.begin[t + 1];
+      for (std::ptrdiff_t p = b; p < e; ++p) {
+        for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
+          if (bonds.j[k] >= e) plan.own_b[t].push_back({static_cast<std::uint32_t>(p), k});
+        for (std::uint32_t k = contacts.off[p]; k < contacts.off[p + 1]; ++k)
+          if (contacts.j[k] >= e) plan.own_c[t].push_back({static_cast<std::uint32_t>(p), k});
+      }
+      plan.base_b[t + 1] = plan.base_b[t] + plan.own_b[t].size();
+      plan.base_c[t + 1] = plan.base_c[t] + plan.own_c[t].size();
+    }
+    auto thread_of = [&](std::uint32_t j) {
+      return static_cast<int>(
+                 std::upper_bound(plan.begin.begin(), plan.begin.end(), static_cast<std::ptrdiff_t>(j)) -
+                 plan.begin.begin()) -
+             1;
+    };
+    // incoming lists in ascending owner order (bonds before contacts of the same owner)
+    for (int t = 0; t < nt; ++t) {
+      std::size_t ib = 0, ic = 0;
+      const auto& ob = plan.own_b[t];
+      const auto& oc = plan.own_c[t];
+      while (ib < ob.size() || ic < oc.size()) {
+        const bool take_b = ic >= oc.size() || (ib < ob.size() && ob[ib][0] <= oc[ic][0]);
+        if (take_b) {
+          const std::uint32_t j = bonds.j[ob[ib][1]];
+          plan.in[thread_of(j)].push_back({static_cast<std::uint32_t>(plan.base_b[t] + ib), j, false});
+          ++ib;
+        } else {
+          const std::uint32_t j = contacts.j[oc[ic][1]];
+          plan.in[thread_of(j)].push_back({static_cast<std::uint32_t>(plan.base_c[t] + ic), j, true});
+          ++ic;
+        }
+      }
+    }
+  }
+  bond_owner.resize(bonds.size());
+  for (std::size_t p = 0; p < N; ++p)
+    for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
+      bond_owner[k] = static_cast<std::uint8_t>(p % kBlock);
+  uniform_diameter =
+      N > 0 && std::all_of(rad.begin(), rad.end(), [&](double r) { return r == rad[0]; }) ? 2 * rad[0] : 0.0;
+  cross_b.assign(plan.base_b[nt] * (D + 1), 0.0);
+  cross_c.assign(plan.base_c[nt] * (D + 1), 0.0);
+  plan_dirty = false;
+}
+
+#define STRATA_DEM_INSTANTIATE(D)                                                                         \
+  template typename Model<D>::Grid Model<D>::build_grid(double) const;                                    \
+  template void Model<D>::bond_touching_pairs(double);                                                    \
+  template void Model<D>::set_bonds(const std::vector<std::uint32_t>&, const std::vector<std::uint32_t>&, \
+                                    const std::vector<double>&);                                          \
+  template bool Model<D>::bonded(std::size_t, std::uint32_t) const;                                       \
+  template void Model<D>::rebuild_contacts();                                                             \
+  template int Model<D>::effective_threads(int) const;                                                    \
+  template void Model<D>::build_plan(int);
+STRATA_DEM_INSTANTIATE(2)
+STRATA_DEM_INSTANTIATE(3)
+#undef STRATA_DEM_INSTANTIATE
+
+}  // namespace strata::dem::detail
