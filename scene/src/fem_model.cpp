@@ -147,6 +147,28 @@ preprocess::SimplexMesh merge_meshes(const std::vector<FemRegion>& regions, int 
   return out;
 }
 
+/// The nodes of each FEM region: the nodes of the elements of cell groups 0 .. regions-1 of
+/// `mesh` (named as `info` names them), sorted, each once. Later groups (overlap rings) are
+/// not regions of the scene.
+std::map<std::string, std::vector<std::uint32_t>> region_nodes_of(const preprocess::SimplexMesh& mesh,
+                                                                  const std::vector<FemRegionInfo>& info,
+                                                                  std::size_t regions) {
+  std::map<std::string, std::vector<std::uint32_t>> out;
+  const auto npe = std::size_t(mesh.nodes_per_cell());
+  for (std::size_t e = 0; e < mesh.cell_count(); ++e) {
+    const auto g = std::size_t(mesh.cell_group[e]);
+    if (g >= regions) continue;
+    auto& nodes = out[info[g].name];
+    nodes.insert(nodes.end(), mesh.cells.begin() + std::ptrdiff_t(e * npe),
+                 mesh.cells.begin() + std::ptrdiff_t((e + 1) * npe));
+  }
+  for (auto& [name, nodes] : out) {
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+  }
+  return out;
+}
+
 /// Applies [[group]], [[boundary]] and [[load]] entries to FEM nodes. `region_nodes` maps a
 /// region name to its nodes.
 void fem_conditions(const Scene& sc, const preprocess::SimplexMesh& mesh,
@@ -218,20 +240,12 @@ BuiltModel build_fem_only(const Scene& sc, bool force) {
   m.dim = dim;
   const preprocess::SimplexMesh mesh = merge_meshes(d.fem, dim);
   std::vector<fem::Material> materials;
-  std::map<std::string, std::vector<std::uint32_t>> region_nodes;
   for (const auto& r : d.fem) {
     const fem::Material mat = continuum(material_table(sc, r.material), dim, thickness, 0.0);
     materials.push_back(mat);
     m.fem_regions.push_back({r.name, r.mesh.cell_count(), mat.E, mat.nu, mat.rho});
   }
-  for (std::size_t e = 0; e < mesh.cell_count(); ++e)
-    for (int k = 0; k < mesh.nodes_per_cell(); ++k)
-      region_nodes[d.fem[std::size_t(mesh.cell_group[e])].name].push_back(
-          mesh.cells[e * std::size_t(mesh.nodes_per_cell()) + std::size_t(k)]);
-  for (auto& [name, nodes] : region_nodes) {
-    std::sort(nodes.begin(), nodes.end());
-    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  }
+  const auto region_nodes = region_nodes_of(mesh, m.fem_regions, d.fem.size());
   fem::SolverSettings fs;
   fs.dt = 1.0;  // set below, once the critical step is known
   fs.allow_unstable = force || solver.boolean("allow_unstable");
@@ -369,7 +383,6 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
 
   // FEM: the FEM regions' elements and the overlap rings, each with its material's continuum.
   std::vector<fem::Material> group_material;
-  std::map<std::string, std::vector<std::uint32_t>> region_nodes;
   std::map<std::string, std::string> material_of;  // physical group -> material
   std::map<std::string, std::string> name_of;      // physical group -> region name
   for (const auto& r : sc.tables("region"))
@@ -385,17 +398,8 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
     m.fem_regions.push_back({ring ? name_of.at(physical) + ":ring" : name_of.at(physical), group_elements[g],
                              mat.E, mat.nu, mat.rho});
   }
-  const int npe = ov.fem.nodes_per_cell();
-  for (std::size_t e = 0; e < ov.fem.cell_count(); ++e) {
-    const std::string& group = m.fem_regions[std::size_t(ov.fem.cell_group[e])].name;
-    if (group.ends_with(":ring")) continue;
-    for (int k = 0; k < npe; ++k)
-      region_nodes[group].push_back(ov.fem.cells[e * std::size_t(npe) + std::size_t(k)]);
-  }
-  for (auto& [name, nodes] : region_nodes) {
-    std::sort(nodes.begin(), nodes.end());
-    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-  }
+  // Groups: the FEM regions in the order given, then the overlap rings.
+  const auto region_nodes = region_nodes_of(ov.fem, m.fem_regions, fem_names.size());
   fem::SolverSettings fs;
   fs.dt = double(m.eta) * ds.dt;
   fs.allow_unstable = ds.allow_unstable;

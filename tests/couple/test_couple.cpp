@@ -1,4 +1,4 @@
-// FEM–DEM coupling through the overlapping boundary (SPEC C3): roles and copy rule, the
+// FEM–DEM coupling through the overlapping boundary (Li et al. 2023): roles and copy rule, the
 // 6-DOF chain against its exact solution, serial == parallel bit for bit, the coupled
 // stability rules, and the metamaterial chain's stability numbers.
 #include <gtest/gtest.h>
@@ -29,7 +29,7 @@ ProbeHistory run_chain6(int eta, Execution mode, double duration, Scheme scheme 
 
 }  // namespace
 
-// SPEC C3: FEM m1..m4, DEM m3..m6; FEM B = m3 = DEM E, FEM E = m4 = DEM B.
+// The 6-DOF chain: FEM m1..m4, DEM m3..m6; FEM B = m3 = DEM E, FEM E = m4 = DEM B.
 TEST(Couple, Chain6RolesAndOverlap) {
   const CoupledChain c = split_chain(chain6_model(), {0, 1, 2, 3}, {2, 3, 4, 5}, SplitSettings{});
   EXPECT_EQ(c.fem_roles, (std::vector<Role>{Role::Internal, Role::Internal, Role::Boundary, Role::External}));
@@ -160,7 +160,7 @@ TEST(Couple, BlowUpInParallelRunIsReported) {
   }
 }
 
-// SPEC C3 "Careful": ω_max = 2.60e4 rad/s → dt_crit = 7.68e-5 s for the whole chain; the DEM
+// The metamaterial chain's ω_max = 2.60e4 rad/s → dt_crit = 7.68e-5 s for the whole chain; the DEM
 // partition alone is a plain chain with ω_max = 2√(k_n/m_s) → 8.0e-5 s. The paper's
 // dt_DEM = 1e-4 s is refused (Input: exit status 2) naming both limits.
 TEST(Couple, MetamaterialStabilityNumbers) {

@@ -1,7 +1,7 @@
-// The 2D coupled wave of examples/04_coupled_wave (issue 6): an FEM block and a particle
-// block from a geometry file, coupled through preprocess's overlap by libcouple with a
-// libdem Simulation as the DEM partition. A 1D strain pulse crosses the interface; its
-// reflection and transmission are measured at gauges (apps/src/wave_report.cpp).
+// The 2D coupled wave of examples/04_coupled_wave (the wave case of strata::cases): an FEM block and a
+// particle block from a geometry file, coupled through preprocess's overlap by libcouple with a libdem
+// Simulation as the DEM partition. A 1D strain pulse crosses the interface; its reflection and transmission
+// are measured at gauges (cases/src/wave_report.cpp).
 //
 // Measured values quoted below: `strata report wave --modes serial --wavelengths 10 20 40 80`
 // (dt_DEM = 0.15 x the lattice limit), Release build, examples/04_coupled_wave/README.md.
@@ -30,7 +30,7 @@ TEST(Wave, ModelFromGeometry) {
   EXPECT_EQ(m.overlap.axis, 0);  // the blocks share the line x = 0.16
   EXPECT_GT(m.particles, 2000u);
   EXPECT_FALSE(m.overlap.pair_particle.empty());
-  // SPEC C2 constants of the lattice the FEM must match
+  // Constants of the hexagonal lattice the FEM must match (Liu, Pollard & Shi 2013)
   EXPECT_NEAR(m.E, 9.236e10, 1e-3 * 9.236e10);
   EXPECT_NEAR(m.nu, 0.1905, 1e-4);
   // the DEM step used is below libdem's own limit (2/√λmax of the infinite lattice bounds it)
@@ -71,7 +71,7 @@ TEST(Wave, EtaOneConservesTheEnergyOfTheCrossingPulse) {
 }
 
 // A long pulse hardly sees the interface: the two sides have the same long-wave impedance
-// (SPEC C2 plane-stress E, ν and the lattice's mass per area). Measured R at η = 1: 3.5e-3
+// (the hexagonal lattice's plane-stress E, ν and the lattice's mass per area). Measured R at η = 1: 3.5e-3
 // (20 d), 2.15e-3 (40 d), 1.37e-3 (80 d), each well above the incident pulse's own tail
 // before the reflected window (2e-4 and 7e-5 at 40 and 80 d). Bounds: R(80 d) < 3e-3
 // (measurement x 2.2; a 1.2 % error in E or ρ alone would reflect that much), and R falls
@@ -101,7 +101,7 @@ TEST(Wave, ReflectionGrowsWithEta) {
   EXPECT_LT(b.r_peak, 0.15);
 }
 
-// An explicit FEM above its own limit is refused by the coupler (SPEC: checked time steps).
+// An explicit FEM above its own limit is refused by the coupler (every time step is checked before a run).
 TEST(Wave, ExplicitFemAboveItsLimitIsRefused) {
   const WaveRun r = run_wave(model(), WaveOptions{}, 20, 10, Execution::Serial, "central-difference");
   EXPECT_EQ(r.status.rfind("refused", 0), 0u) << r.status;
