@@ -1,4 +1,4 @@
-// The `strata` command line (CLI11): run, check, mesh, bench, render, reference.
+// The `strata` command line (CLI11): run, check, mesh, bench, render, report, compare, reference.
 //
 // Exit status: 0 success, 1 the run failed, 2 bad usage or bad scene, 130/143 a run stopped by
 // SIGINT/SIGTERM (with a checkpoint).
@@ -18,7 +18,9 @@
 #include <strata/scene/files.hpp>
 #include <strata/scene/scene.hpp>
 #include "bench_dem.hpp"
+#include "build_parts_cli.hpp"
 #include "commands.hpp"
+#include "compare_cmd.hpp"
 #include "render_cmd.hpp"
 
 namespace strata::app {
@@ -56,7 +58,7 @@ int main(int argc, char** argv) {
   run->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   run->add_option("-o,--output", opt.output, "Output directory (default: [output] directory of the scene)");
   run->add_option("--threads", opt.threads, "Threads for parallel loops (default: [solver] threads, 0 = all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, par::kMaxThreads));
   run->add_option("--set", opt.overrides,
                   "Override a scene key, validated like the file: KEY=VALUE (repeatable)")
       ->take_all();
@@ -64,6 +66,7 @@ int main(int argc, char** argv) {
                 "Run even when dt exceeds the critical time step (results are unreliable)");
   run->add_option("--restart", opt.restart,
                   "Continue from a checkpoint (OUTDIR/checkpoint.h5) of this scene up to its solver.steps")
+      ->check(needs_part("STRATA_WITH_HDF5", "continuing from an HDF5 checkpoint"))
       ->check(CLI::ExistingFile);
   run->footer(
       "Example:\n  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --threads 2 \\\n"
@@ -91,7 +94,8 @@ int main(int argc, char** argv) {
   auto* mesh =
       app.add_subcommand("mesh", "Build the model only and report counts, packing density and time taken");
   mesh->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
-  mesh->add_option("-o,--output", opt.output, "Directory for the model files (default: none written)");
+  mesh->add_option("-o,--output", opt.output, "Directory for the model files (default: none written)")
+      ->check(needs_part("STRATA_WITH_VTK", "writing the model files (VTK series)"));
   mesh->add_option("--set", opt.overrides, "Override a scene key: KEY=VALUE (repeatable)")->take_all();
   mesh->add_flag("--json", mesh_json, "Print one JSON object");
   mesh->footer("Example:\n  strata mesh examples/01_uniaxial_compression/scene.toml --json");
@@ -106,7 +110,7 @@ int main(int argc, char** argv) {
   bdem->add_option("--particles", bopt.particles, "Approximate number of particles")
       ->check(CLI::PositiveNumber);
   bdem->add_option("--steps", bopt.steps, "Time steps to time")->check(CLI::PositiveNumber);
-  bdem->add_option("--threads", bopt.threads, "Threads (0 = all)")->check(CLI::NonNegativeNumber);
+  bdem->add_option("--threads", bopt.threads, "Threads (0 = all)")->check(CLI::Range(0, par::kMaxThreads));
   bdem->add_option("--lattice", bopt.lattice, "3D lattice: hcp or fcc")->check(CLI::IsMember({"hcp", "fcc"}));
   bdem->footer("Example:\n  strata bench dem --dim 2 --particles 1000000 --steps 200 --threads 2");
 
@@ -192,7 +196,7 @@ int main(int argc, char** argv) {
   report->add_option("--fem-far-size", wave.fem_far_size, "wave: largest FEM element in particle diameters")
       ->check(CLI::Range(1.0, 100.0));
   report->add_option("--threads", wave.threads, "wave: threads of the loops inside each partition (0 = all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, par::kMaxThreads));
   report->add_flag("--quick", wave.quick, "wave: eta 1 and 5, one wavelength (20 d): a few seconds");
   report->add_flag(
       "--embedded", wave.embedded,
@@ -201,7 +205,8 @@ int main(int argc, char** argv) {
   report
       ->add_option("--frames", wave.frames,
                    "wave: VTK frames of one extra run in DIR/series (0: none; 12, quick 3)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::NonNegativeNumber)
+      ->check(needs_part("STRATA_WITH_VTK", "a VTK series of the wave", "0"));
   report->add_option("--series-eta", wave.series_eta, "wave: eta of the series run (serial, longest pulse)")
       ->check(CLI::PositiveNumber);
   report->footer(
@@ -209,6 +214,37 @@ int main(int argc, char** argv) {
       "  strata report wave -o out/wave --wavelengths 10 20 40\n"
       "The same sweeps run from scene files: strata check|run examples/02_metamaterial_chain/scene.toml,\n"
       "examples/04_coupled_wave/scene.toml ([coupled], docs/scene-reference.md).");
+
+  // ---- compare ----
+  cases::CompareOptions cmp;
+  int cmp_threads = 1;
+  auto* compare = app.add_subcommand(
+      "compare",
+      "Error against run time: a scene at several eta against a reference scene of the same geometry");
+  compare->add_option("scene", cmp.scene, "Scene studied (e.g. coupled FEM-DEM)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  compare->add_option("--reference", cmp.reference, "Reference scene (e.g. all particles), same gauges")
+      ->required()
+      ->check(CLI::ExistingFile);
+  compare->add_option("--eta", cmp.etas, "Time-step ratios (integers >= 1; default: the scene's solver.eta)")
+      ->check(CLI::Range(1, 1 << 20));
+  compare->add_option("-o,--output", cmp.output, "Directory for compare.{csv,md,png} and the runs");
+  compare->add_option("--set", cmp.overrides, "Override a key of both scenes: KEY=VALUE (repeatable)")
+      ->take_all();
+  compare->add_option("--repeats", cmp.repeats, "Runs per point; the fastest is reported")
+      ->check(CLI::Range(1, 100));
+  compare->add_option("--threads", cmp_threads, "Threads for parallel loops (0 = all; default 1)")
+      ->check(CLI::Range(0, par::kMaxThreads));
+  compare->add_flag("--force", cmp.force, "Also run eta values strata would refuse as unstable");
+  compare->add_flag("--no-plot", cmp.no_plot, "Do not write the PNG plots");
+  compare->footer(
+      "Example:\n  strata compare examples/05_tunnel/scene.toml --reference "
+      "examples/05_tunnel/reference.toml \\\n"
+      "      --eta 1 2 3 --set solver.steps=8000 -o out/tunnel_compare\n"
+      "Each run writes probes (no frames, pictures or checkpoints unless --set turns them on) into\n"
+      "OUTPUT/runs/<label>; the gauge error is max |u - u_ref| over the probe rows and gauge columns\n"
+      "over the largest |u_ref| ([probe] gauges of both scenes).");
 
   // ---- reference ----
   std::string ref_out;
@@ -234,6 +270,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (*render) return render_series_cmd(ropt);
+    if (*compare) return compare_cmd(cmp, cmp_threads);
     if (*report && rep.case_name == "wave") {
       wave.output = report->count("--output") ? rep.output : std::filesystem::path("out/wave");
       if (report_eta->count()) wave.etas = rep.etas;

@@ -2,7 +2,8 @@
 // print. The library builds, runs and writes; this file only shows it.
 #include "commands.hpp"
 
-#include <signal.h>
+#include "stop_signals.hpp"
+
 #include <string.h>
 
 #include <nlohmann/json.hpp>
@@ -17,7 +18,6 @@
 #include <strata/scene/run.hpp>
 #include <strata/scene/scene.hpp>
 
-#include <atomic>
 #include <cstdio>
 #include <optional>
 
@@ -33,8 +33,8 @@ scene::Scene load_scene(const SceneOptions& opt) {
   scene::Scene sc = scene::load(opt.scene, opt.overrides);
   // A coupled case's threads default per case; a region scene's is [solver]'s.
   const int threads = opt.threads >= 0 ? opt.threads
-                      : sc.coupled()   ? cases::coupled_threads(sc)
-                                       : int(sc.table("solver").integer("threads"));
+                      : sc.coupled     ? cases::coupled_threads(sc)
+                                       : int(sc.solver.threads);
   par::set_threads(threads);
   return sc;
 }
@@ -84,40 +84,6 @@ void print_model(const json& j) {
               j["simulated_time_s"].get<double>());
 }
 
-// ---- SIGINT / SIGTERM ----------------------------------------------------------------------
-
-std::atomic<int> g_signal{0};
-static_assert(std::atomic<int>::is_always_lock_free, "the signal handler needs a lock-free flag");
-
-extern "C" void on_stop_signal(int sig) { g_signal.store(sig); }  // only sets the flag
-
-/// Routes SIGINT and SIGTERM to the flag for the duration of a run; restores the previous
-/// handlers afterwards.
-class StopSignals {
- public:
-  StopSignals() {
-    g_signal.store(0);
-    struct sigaction sa {};
-    sa.sa_handler = on_stop_signal;
-    sigemptyset(&sa.sa_mask);
-    sa.sa_flags = SA_RESTART;
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~StopSignals() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-  /// The signal received (0: none).
-  static int received() { return g_signal.load(); }
-
- private:
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
-
 /// Shows a run on the terminal: the restart, a progress line, the end; stops on SIGINT or
 /// SIGTERM.
 class TerminalObserver final : public scene::RunObserver {
@@ -143,7 +109,7 @@ class TerminalObserver final : public scene::RunObserver {
 
 int check_scene(const SceneOptions& opt, bool json_out) {
   const scene::Scene sc = load_scene(opt);
-  if (sc.coupled()) return cases::check_coupled_scene(sc, json_out, opt.force);
+  if (sc.coupled) return cases::check_coupled_scene(sc, json_out, opt.force);
   const scene::BuiltModel m = scene::build_model(sc, opt.force);
   const json j = scene::model_json(m, sc);
   if (json_out)
@@ -155,7 +121,7 @@ int check_scene(const SceneOptions& opt, bool json_out) {
 
 int mesh_scene(const SceneOptions& opt, bool json_out) {
   const scene::Scene sc = load_scene(opt);
-  STRATA_CHECK(!sc.coupled(), Input,
+  STRATA_CHECK(!sc.coupled, Input,
                "{}: a coupled-chain scene ([coupled]) has no mesh to build; use 'strata check' for its "
                "stability numbers or 'strata run' for the sweep",
                sc.file.string());
@@ -188,7 +154,7 @@ int run_scene(const SceneOptions& opt) {
   // Validate and build everything, and check a checkpoint to restart from, before the first
   // byte is written.
   const scene::Scene sc = load_scene(opt);
-  if (sc.coupled()) {  // the coupled cases: checks, the sweep, then its files all at once
+  if (sc.coupled) {  // the coupled cases: checks, the sweep, then its files all at once
     STRATA_CHECK(opt.restart.empty(), Input,
                  "--restart: {} is a coupled-chain scene ([coupled]); its sweep has no checkpoints",
                  sc.file.string());

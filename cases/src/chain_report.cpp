@@ -156,11 +156,14 @@ json stability_json(const Plan& p, const Stability& s) {
   return j;
 }
 
-/// Where a refusal points: a scene key (file:line:col) or, for `strata report`, nowhere.
+/// Where a refusal points: a [coupled] key of the scene (file:line:col) or, for
+/// `strata report`, nowhere.
 struct Refuse {
-  const scene::Table* table = nullptr;
-  [[noreturn]] void at(const std::string& key, const std::string& message) const {
-    if (table) table->fail(key, message);
+  const scene::CoupledTable* table = nullptr;
+  /// `key` is the field of the key the refusal names, e.g. &scene::CoupledTable::dt_dem.
+  template <class T>
+  [[noreturn]] void at(scene::Located<T> scene::CoupledTable::*key, const std::string& message) const {
+    if (table) (table->*key).fail(message);
     fail(ErrorKind::Input, "{}", message);
   }
 };
@@ -168,13 +171,14 @@ struct Refuse {
 /// Throws Input (exit 2) when dt_DEM is unstable, or when an η point would be refused and the
 /// plan asks for that (chain6 always: its sweep cannot show refused points).
 void refuse_unstable(const Plan& p, const Stability& s, const Refuse& refuse) {
-  if (!s.dt_problem.empty()) refuse.at("dt_dem", s.dt_problem);
+  if (!s.dt_problem.empty()) refuse.at(&scene::CoupledTable::dt_dem, s.dt_problem);
   if (s.eta_problems.empty() || !(p.opt.refuse_unstable_eta || !p.meta)) return;
   std::string why;
   for (const auto& e : s.eta_problems) why += "\n  " + e;
-  refuse.at("eta", fmt::format("eta = {} cannot run with the FEM integrator {}: use fem_scheme = "
-                               "\"implicit-newmark\" or lower eta{}",
-                               fmt::join(s.refused, ", "), fem::to_string(p.scheme), why));
+  refuse.at(&scene::CoupledTable::eta,
+            fmt::format("eta = {} cannot run with the FEM integrator {}: use fem_scheme = "
+                        "\"implicit-newmark\" or lower eta{}",
+                        fmt::join(s.refused, ", "), fem::to_string(p.scheme), why));
 }
 
 // ---- the sweep and its files ---------------------------------------------------------------
@@ -319,51 +323,51 @@ json per_eta_json(const std::vector<couple::CoupledStability>& per_eta) {
 int report_cmd(const ReportOptions& opt) { return run_plan(resolve(opt), Refuse{}, opt.check_only); }
 
 ReportOptions coupled_report_options(const scene::Scene& sc, bool force) {
-  STRATA_CHECK(sc.coupled(), Internal, "coupled_report_options: {} has no [coupled] table", sc.file.string());
-  const scene::Table& c = sc.table("coupled");
-  const scene::Table& out = sc.table("output");
+  STRATA_CHECK(sc.coupled, Internal, "coupled_report_options: {} has no [coupled] table", sc.file.string());
+  const scene::CoupledTable& c = *sc.coupled;
+  const scene::OutputTable& out = sc.output;
   ReportOptions o;
-  o.case_name = c.str("case");
-  o.title = c.str("title");
+  o.case_name = c.case_name;
+  o.title = c.title;
   o.scene = sc.file;
-  o.output = out.path("directory");
-  o.no_plot = !out.boolean("render");
-  if (c.has("eta")) {  // else the paper's list, ReportOptions' default
+  o.output = out.directory;
+  o.no_plot = !out.render;
+  if (c.eta.given) {  // else the paper's list, ReportOptions' default
     o.etas.clear();
-    for (std::int64_t e : c.integers("eta")) o.etas.push_back(static_cast<int>(e));
+    for (std::int64_t e : c.eta.value) o.etas.push_back(static_cast<int>(e));
   }
-  o.modes = c.str("modes");
-  o.dt_dem = c.real("dt_dem");
-  o.duration = c.real("duration");
-  o.fem_scheme = c.str("fem_scheme");
-  o.dt_ref = c.real("dt_ref");
-  o.pulse_amplitude = c.real("pulse_amplitude");
-  o.pulse_duration = c.real("pulse_duration");
-  if (c.has("repeats")) o.repeats = static_cast<int>(c.integer("repeats"));
+  o.modes = c.modes;
+  o.dt_dem = c.dt_dem;
+  o.duration = c.duration;
+  o.fem_scheme = c.fem_scheme;
+  o.dt_ref = c.dt_ref;
+  o.pulse_amplitude = c.pulse_amplitude;
+  o.pulse_duration = c.pulse_duration;
+  if (c.repeats.given) o.repeats = static_cast<int>(c.repeats);
   o.refuse_unstable_eta = !force;
   return o;
 }
 
 int coupled_threads(const scene::Scene& sc) {
-  const scene::Table& c = sc.table("coupled");
-  if (c.has("threads")) return static_cast<int>(c.integer("threads"));
-  return c.str("case") == "wave" ? WaveOptions{}.threads : 0;
+  const scene::CoupledTable& c = *sc.coupled;
+  if (c.threads.given) return static_cast<int>(c.threads);
+  return c.case_name == "wave" ? WaveOptions{}.threads : 0;
 }
 
 int check_coupled_scene(const scene::Scene& sc, bool json_out, bool force) {
-  if (sc.table("coupled").str("case") == "wave") return check_wave_scene(sc, json_out, force);
+  if (sc.coupled->case_name == "wave") return check_wave_scene(sc, json_out, force);
   const ReportOptions o = coupled_report_options(sc, force);
   if (!json_out)
     std::printf("scene        %s (coupled chain, case %s)\n", sc.file.string().c_str(), o.case_name.c_str());
-  return run_plan(resolve(o), Refuse{&sc.table("coupled")}, /*check_only=*/true, json_out);
+  return run_plan(resolve(o), Refuse{&*sc.coupled}, /*check_only=*/true, json_out);
 }
 
 int run_coupled_scene(const scene::Scene& sc, const fs::path& output, bool force, int threads) {
-  if (sc.table("coupled").str("case") == "wave") return run_wave_scene(sc, output, force, threads);
+  if (sc.coupled->case_name == "wave") return run_wave_scene(sc, output, force, threads);
   ReportOptions o = coupled_report_options(sc, force);
   if (!output.empty()) o.output = output;
   std::printf("scene        %s (coupled chain, case %s)\n", sc.file.string().c_str(), o.case_name.c_str());
-  return run_plan(resolve(o), Refuse{&sc.table("coupled")}, /*check_only=*/false);
+  return run_plan(resolve(o), Refuse{&*sc.coupled}, /*check_only=*/false);
 }
 
 }  // namespace strata::cases

@@ -3,6 +3,7 @@
 #include <strata/cases/wave_report.hpp>
 
 #include <nlohmann/json.hpp>
+#include <strata/config.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
@@ -892,8 +893,9 @@ WaveStability wave_stability(const WaveModel& m, const WaveOptions& opt) {
 int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out) {
   WaveOptions opt = in;
   // A refusal points at the scene key when there is one, else it is a plain Input error.
-  auto refuse = [&](const std::string& key, const std::string& message) {
-    if (refuse_at) refuse_at(key, message);
+  // `key` is the field of the key the refusal names, e.g. &scene::CoupledTable::wavelengths.
+  auto refuse = [&]<class T>(scene::Located<T> scene::CoupledTable::*key, const std::string& message) {
+    if (refuse_at.table) (refuse_at.table->*key).fail(message);
     fail(ErrorKind::Input, "{}", message);
   };
   if (opt.frames < 0) opt.frames = 12;
@@ -919,8 +921,8 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
     try {
       return build_wave_model(opt);
     } catch (const Error& e) {
-      if (e.kind() != ErrorKind::Input || !refuse_at) throw;
-      refuse_at("geometry", e.what());
+      if (e.kind() != ErrorKind::Input || !refuse_at.table) throw;
+      refuse(&scene::CoupledTable::geometry, e.what());
       throw;
     }
   }();
@@ -929,7 +931,7 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
       (void)plan_of(m, opt, l);
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::Input) throw;
-      refuse("wavelengths", e.what());
+      refuse(&scene::CoupledTable::wavelengths, e.what());
     }
   }
   const std::string header1 = fmt::format(
@@ -975,14 +977,16 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
     std::string why;
     for (const auto& p : stab.problems) why += "\n  " + p;
     if (stab.dem_problem)
-      refuse("dt_fraction", fmt::format("dt_DEM = {:.4g} s is above the DEM partition's limit: lower "
-                                        "dt_fraction{}",
-                                        m.dt_dem, why));
-    refuse(
-        opt.fem_scheme != "auto" ? "fem_scheme" : "eta",
-        fmt::format("eta = {} cannot run with fem_scheme = \"{}\": use \"auto\" or \"implicit-newmark\", or "
-                    "lower eta{}",
-                    fmt::join(stab.refused, ", "), opt.fem_scheme, why));
+      refuse(&scene::CoupledTable::dt_fraction,
+             fmt::format("dt_DEM = {:.4g} s is above the DEM partition's limit: lower "
+                         "dt_fraction{}",
+                         m.dt_dem, why));
+    const std::string message = fmt::format(
+        "eta = {} cannot run with fem_scheme = \"{}\": use \"auto\" or \"implicit-newmark\", or "
+        "lower eta{}",
+        fmt::join(stab.refused, ", "), opt.fem_scheme, why);
+    if (opt.fem_scheme != "auto") refuse(&scene::CoupledTable::fem_scheme, message);
+    refuse(&scene::CoupledTable::eta, message);
   }
   if (opt.check_only) return 0;
 
@@ -1056,7 +1060,9 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
   std::fwrite(md.data() + header.size(), 1, md.size() - header.size(), stdout);
 
   // VTK series (and pictures) of one representative run: serial, η = series_eta, the longest pulse
-  if (opt.frames > 0) {
+  if (opt.frames > 0 && !STRATA_WITH_VTK)
+    log::warn("no series: this build of strata leaves out STRATA_WITH_VTK");
+  if (opt.frames > 0 && STRATA_WITH_VTK) {
     WaveSeries ws;
     ws.dir = dir / "series";
     ws.frames = opt.frames;
@@ -1112,56 +1118,49 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
 int wave_report_cmd(const WaveOptions& opt) { return wave_sweep(wave_report_defaults(opt)); }
 
 WaveOptions wave_scene_options(const scene::Scene& sc, bool force) {
-  STRATA_CHECK(sc.coupled() && sc.table("coupled").str("case") == "wave", Internal,
+  STRATA_CHECK(sc.coupled && sc.coupled->case_name == "wave", Internal,
                "wave_scene_options: {} is not a [coupled] scene with case = \"wave\"", sc.file.string());
-  const scene::Table& c = sc.table("coupled");
-  const scene::Table& out = sc.table("output");
+  const scene::CoupledTable& c = *sc.coupled;
+  const scene::OutputTable& out = sc.output;
   WaveOptions o;
-  o.title = c.str("title");
+  o.title = c.title;
   o.scene = sc.file;
-  o.output = out.path("directory");
-  o.no_plot = !out.boolean("render");
-  o.geometry = c.path("geometry");
-  o.particle_region = c.str("particle_region");
-  o.fem_region = c.str("fem_region");
-  o.exit_region = c.str("exit_region");
-  o.embedded = c.boolean("embedded");
-  if (c.has("eta")) {
+  o.output = out.directory;
+  o.no_plot = !out.render;
+  o.geometry = c.geometry;
+  o.particle_region = c.particle_region;
+  o.fem_region = c.fem_region;
+  o.exit_region = c.exit_region;
+  o.embedded = c.embedded;
+  if (c.eta.given) {
     o.etas.clear();
-    for (std::int64_t e : c.integers("eta")) o.etas.push_back(static_cast<int>(e));
+    for (std::int64_t e : c.eta.value) o.etas.push_back(static_cast<int>(e));
   } else {
     o.etas = o.embedded ? kWaveEmbeddedEtas : kWaveEtas;
   }
-  o.wavelengths = c.has("wavelengths") ? c.reals("wavelengths")
-                  : o.embedded         ? kWaveEmbeddedWavelengths
-                                       : kWaveWavelengths;
-  o.modes = c.str("modes");
-  o.fem_scheme = c.str("fem_scheme");
-  o.d = c.real("diameter");
-  o.dt_fraction = c.real("dt_fraction");
-  o.fem_far_size = c.real("fem_far_size");
-  o.fem_growth = c.real("fem_growth");
-  o.peak_velocity = c.real("peak_velocity");
-  o.frames = static_cast<int>(c.integer("frames"));
-  o.series_eta = static_cast<int>(c.integer("series_eta"));
-  o.repeats = c.has("repeats") ? static_cast<int>(c.integer("repeats")) : 1;
-  o.threads = c.has("threads") ? static_cast<int>(c.integer("threads")) : WaveOptions{}.threads;
+  o.wavelengths = c.wavelengths.given ? c.wavelengths.value
+                  : o.embedded        ? kWaveEmbeddedWavelengths
+                                      : kWaveWavelengths;
+  o.modes = c.modes;
+  o.fem_scheme = c.fem_scheme;
+  o.d = c.diameter;
+  o.dt_fraction = c.dt_fraction;
+  o.fem_far_size = c.fem_far_size;
+  o.fem_growth = c.fem_growth;
+  o.peak_velocity = c.peak_velocity;
+  o.frames = static_cast<int>(c.frames);
+  o.series_eta = static_cast<int>(c.series_eta);
+  o.repeats = c.repeats.given ? static_cast<int>(c.repeats) : 1;
+  o.threads = c.threads.given ? static_cast<int>(c.threads) : WaveOptions{}.threads;
   o.refuse_unstable_eta = !force;
   return o;
 }
-
-namespace {
-WaveRefuse refuse_at_scene_key(const scene::Scene& sc) {
-  const scene::Table* c = &sc.table("coupled");
-  return [c](const std::string& key, const std::string& message) { c->fail(key, message); };
-}
-}  // namespace
 
 int check_wave_scene(const scene::Scene& sc, bool json_out, bool force) {
   WaveOptions o = wave_scene_options(sc, force);
   o.check_only = true;
   if (!json_out) std::printf("scene        %s (coupled wave)\n", sc.file.string().c_str());
-  return wave_sweep(o, refuse_at_scene_key(sc), json_out);
+  return wave_sweep(o, WaveRefuse{&*sc.coupled}, json_out);
 }
 
 int run_wave_scene(const scene::Scene& sc, const fs::path& output, bool force, int threads) {
@@ -1169,7 +1168,7 @@ int run_wave_scene(const scene::Scene& sc, const fs::path& output, bool force, i
   if (!output.empty()) o.output = output;
   if (threads >= 0) o.threads = threads;
   std::printf("scene        %s (coupled wave)\n", sc.file.string().c_str());
-  return wave_sweep(o, refuse_at_scene_key(sc));
+  return wave_sweep(o, WaveRefuse{&*sc.coupled});
 }
 
 }  // namespace strata::cases

@@ -1,8 +1,8 @@
+# VTK: the time series (STRATA_WITH_VTK) and, on top of them, headless pictures and plots
+# (STRATA_WITH_RENDER, which CMakeLists.txt turns off whenever STRATA_WITH_VTK is off).
 set(STRATA_HAVE_VTK 0)
 set(STRATA_HAVE_RENDER 0)
-if(STRATA_WITH_RENDER AND NOT STRATA_WITH_VTK)
-  message(FATAL_ERROR "STRATA_WITH_RENDER needs STRATA_WITH_VTK")
-endif()
+set(_vtk_components "")
 if(STRATA_WITH_VTK)
   set(_vtk_components CommonCore CommonDataModel IOXML IOLegacy)
   if(STRATA_WITH_RENDER)

@@ -142,9 +142,9 @@ void plot_xy(const PlotRequest& rq) {
       vtkPlot* pts = chart->AddPlot(vtkChart::POINTS);
       pts->SetInputData(table, 0, 1);
       pts->SetColor(c[0], c[1], c[2], 255);
-      if (auto* pp = vtkPlotPoints::SafeDownCast(pts)) {
+      if (auto* pp = vtkPlotPoints::SafeDownCast(pts)) {  // points alone: large enough to find
         pp->SetMarkerStyle(vtkPlotPoints::CIRCLE);
-        pp->SetMarkerSize(3 * width);
+        pp->SetMarkerSize(6 * width);
       }
     }
   }

@@ -324,11 +324,17 @@ void fit_2d_camera(vtkCamera* cam, const double b[6], int w, int h, double x0, d
   const double cx = 0.5 * (b[0] + b[1]), cy = 0.5 * (b[2] + b[3]);
   const double fx = cx + (0.5 - 0.5 * (x0 + x1)) * w * s;  // window centre in world units
   const double fy = cy + (0.5 - 0.5 * (y0 + y1)) * h * s;
+  // The camera stands 10 model sizes above the plane; the depth range it draws must follow,
+  // whatever the model's size (micrometres to hundreds of kilometres): VTK's default range
+  // (0.01 to 1000.01) would leave anything beyond 100 m undrawn.
+  const double dist = 10 * std::max(bw, bh);
+  const double zmin = std::max(std::abs(b[4]), std::abs(b[5]));  // disks and halo layers near z = 0
   cam->ParallelProjectionOn();
   cam->SetFocalPoint(fx, fy, 0);
-  cam->SetPosition(fx, fy, 1.0 + 10 * std::max(bw, bh));
+  cam->SetPosition(fx, fy, dist);
   cam->SetViewUp(0, 1, 0);
   cam->SetParallelScale(0.5 * h * s);
+  cam->SetClippingRange(std::max(1e-3 * dist, 0.5 * dist - zmin), 1.5 * dist + zmin);
 }
 
 /// Projected extent (display pixels) of the corners of `b`: {xmin, xmax, ymin, ymax}.

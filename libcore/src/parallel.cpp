@@ -1,5 +1,7 @@
 #include "strata/core/parallel.hpp"
 
+#include "strata/core/error.hpp"
+
 #include <thread>
 
 namespace strata::par {
@@ -21,6 +23,8 @@ int threads() {
 }
 
 void set_threads(int n) {
+  STRATA_CHECK(n <= kMaxThreads, Input, "threads = {}: at most {} (0: all {} hardware threads)", n,
+               kMaxThreads, hardware_threads());
 #if STRATA_WITH_OPENMP
   omp_set_num_threads(n > 0 ? n : hardware_threads());
 #else

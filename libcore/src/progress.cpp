@@ -38,11 +38,12 @@ void Progress::report(std::int64_t done, bool final) {
   next_check_ = done + check_every_;
   if (!final && t - last_print_s_ < interval_s_) return;
   last_print_s_ = t;
-  const double frac = std::min(1.0, double(done) / double(total_));
+  const double frac = total_ > 0 ? std::min(1.0, double(done) / double(total_)) : 1.0;
   const double eta = rate > 0 ? (total_ - done) / rate : NAN;
-  const std::string line =
-      fmt::format("{}: {:5.1f}%  {}/{} {}  {:.3g} {}/s  elapsed {}  ETA {}", label_, 100 * frac, done, total_,
-                  unit_, rate, unit_, format_duration(t), final ? "done" : format_duration(eta));
+  // the last line says how the work ended: all of it done, or stopped short
+  const std::string end = !final ? "ETA " + format_duration(eta) : done >= total_ ? "done" : "stopped";
+  const std::string line = fmt::format("{}: {:5.1f}%  {}/{} {}  {:.3g} {}/s  elapsed {}  {}", label_,
+                                       100 * frac, done, total_, unit_, rate, unit_, format_duration(t), end);
   if (tty_)
     std::fprintf(stderr, "\r\033[K%s%s", line.c_str(), final ? "\n" : "");
   else

@@ -77,7 +77,8 @@ void DemPartition::prepare() {
       if (p.axes >> a & 1u) ids.push_back(p.id);
     if (ids.empty()) continue;
     sim_.add_to_group(ids, kGroup[a]);
-    sim_.drive(kGroup[a], 1u << a);  // after the model's own conditions: overrides them on this axis
+    // after the model's own conditions: overrides them on this axis; its work is exchange
+    sim_.drive(kGroup[a], 1u << a, /*exchange=*/true);
   }
   sim_.initialise();
   prepared_ = true;

@@ -43,12 +43,14 @@ void Model<D>::resolve_bcs() {
       }
       for (int a = 0; a < D; ++a) {
         if (!(s.axes & (1u << a))) continue;
+        b.exchange &= std::uint8_t(~(1u << a));  // a later spec takes the axis over
         if (s.kind == BcSpec::Fix) {
           b.mode[a] = 1;
           b.value[a] = 0;
         } else if (s.kind == BcSpec::Velocity) {
           b.mode[a] = 2;
           b.value[a] = s.value[a];
+          if (s.exchange) b.exchange |= std::uint8_t(1u << a);
         } else {
           b.mode[a] = 3;
           b.value[a] = s.value[a];
@@ -69,6 +71,7 @@ void Model<D>::resolve_bcs() {
   }
   bcp = std::move(out);
   bcs_dirty = false;
+  v2_alarm = -1;  // the speed test between checks is set anew for these conditions
 }
 
 template <int D>

@@ -120,10 +120,20 @@ void Model<D>::compute_critical_dt() {
     const double imax = *std::max_element(im.begin(), im.end());
     contact_bound = 2.0 * (D == 2 ? 6 : 12) * kmax * imax;
   }
+  // rigid walls: a particle pressed against walls adds k_w·n nᵀ to its diagonal block, a
+  // positive semi-definite term, which raises λ by at most Σ_w k_w / m_min (Weyl's
+  // inequality); any particle may meet a wall later, so every wall counts from the start
+  double wall_lambda = 0;
+  if (!walls.empty()) {
+    const double imax = *std::max_element(im.begin(), im.end());
+    for (const Wall& w : walls) wall_lambda += w.k * imax;
+  }
   lam_bound = bound;
   lam_est = npairs > 0 ? lanczos() : 0.0;
   double lam = npairs > 0 ? std::min(bound, 1.01 * lam_est) : contact_bound;
   if (npairs == 0) lam_bound = contact_bound;
+  lam += wall_lambda;
+  lam_bound += wall_lambda;
   dt_crit = lam > 0 ? 2.0 / std::sqrt(lam) : std::numeric_limits<double>::infinity();
 }
 

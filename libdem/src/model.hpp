@@ -35,6 +35,7 @@ struct BcSpec {
   std::array<double, 3> value{};
   std::int64_t every = 0;
   int history = -1;
+  bool exchange = false;  ///< drive(): the group is driven by another partition
 };
 
 struct ForceHistory {
@@ -108,6 +109,9 @@ class ModelBase {
   virtual double lambda_bound() const = 0;
   virtual double lambda_estimate() const = 0;
   virtual void check_dt() = 0;
+  /// A wall was added: on an initialised model, the critical step is computed anew (walls
+  /// limit it) and dt checked against it.
+  virtual void walls_changed() = 0;
   virtual void run(std::int64_t steps, bool energies_at_end) = 0;
   virtual std::int64_t step_count() const = 0;
   virtual double time() const = 0;
@@ -116,6 +120,8 @@ class ModelBase {
   virtual double kinetic_energy() const = 0;
   virtual double bond_energy() const = 0;
   virtual double external_work() const = 0;
+  virtual double exchange_work() const = 0;
+  virtual double energy_floor() const = 0;
   virtual double damping_dissipation() const = 0;
   virtual std::size_t broken_count(int mode) const = 0;
   virtual std::size_t bond_count() const = 0;
@@ -194,6 +200,7 @@ class Model final : public ModelBase, public ModelData<D> {
   double time_ = 0;
   bool energy_valid = false;  // acc[].ke/eb are from the last step
   double energy_budget0 = 0, energy_tiny = 0;
+  double v2_alarm = -1;       // < 0: to be computed (update_alarm); derived, not part of the state
   bool budget_dirty = false;  // velocities were set after initialise()
   bool contacts_on = false;
   double skin = 0, disp_bound = 0;
@@ -270,9 +277,21 @@ class Model final : public ModelBase, public ModelData<D> {
   void refresh_laws();
   void initialise() override;
   void check_dt() override;
+  void walls_changed() override {
+    if (!initialised) return;
+    compute_critical_dt();
+    check_dt();
+  }
   StepCtx step_context() const;
   void run(std::int64_t steps, bool energies_at_end) override;
   void check_blowup(bool nan_seen);
+  /// The blow-up check between two energy steps, on energies evaluated afresh: run when a
+  /// particle moves faster than the energy budget allows (v2_alarm).
+  void check_blowup_now();
+  void check_energies(double ke, double eb, bool nan_seen, bool product_ke);
+  /// v2_alarm from the current budget: a particle with |v|² above it holds more kinetic
+  /// energy than the whole model may.
+  void update_alarm();
   void merge_events();
   std::int64_t step_count() const override { return step_; }
   double time() const override { return time_; }
@@ -302,6 +321,8 @@ class Model final : public ModelBase, public ModelData<D> {
   double kinetic_energy() const override;
   double bond_energy() const override;
   double external_work() const override;
+  double exchange_work() const override;
+  double energy_floor() const override { return energy_tiny; }
   double damping_dissipation() const override;
   std::size_t broken_count(int mode) const override;
   std::size_t bond_count() const override { return bonds.size(); }

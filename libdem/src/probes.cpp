@@ -65,6 +65,14 @@ double Model<D>::external_work() const {
 }
 
 template <int D>
+double Model<D>::exchange_work() const {
+  double s = 0;
+  for (const BlockAcc& A : acc) s += A.work_ex;
+  for (const BcParticle& b : bcp) s -= b.w_ahead_ex;
+  return s;
+}
+
+template <int D>
 double Model<D>::damping_dissipation() const {
   double s = 0;
   for (const BlockAcc& A : acc) s += A.dissipated;
@@ -116,6 +124,7 @@ std::vector<PairView> Model<D>::pairs(bool want_bonds) const {
   template double Model<D>::kinetic_energy() const;                                    \
   template double Model<D>::bond_energy() const;                                       \
   template double Model<D>::external_work() const;                                     \
+  template double Model<D>::exchange_work() const;                                     \
   template double Model<D>::damping_dissipation() const;                               \
   template std::size_t Model<D>::broken_count(int) const;                              \
   template std::size_t Model<D>::contact_count() const;                                \

@@ -83,8 +83,8 @@ void Simulation::prescribe_velocity(const std::string& group, std::array<double,
   m_->bc_specs.push_back({detail::BcSpec::Velocity, mask_of(*this, group), axes, v, 0, -1});
   m_->bcs_changed();
 }
-void Simulation::drive(const std::string& group, unsigned axes) {
-  m_->bc_specs.push_back({detail::BcSpec::Velocity, mask_of(*this, group), axes, {}, 0, -1});
+void Simulation::drive(const std::string& group, unsigned axes, bool exchange) {
+  m_->bc_specs.push_back({detail::BcSpec::Velocity, mask_of(*this, group), axes, {}, 0, -1, exchange});
   m_->bcs_changed();
 }
 void Simulation::set_kinematics(std::size_t id, const std::array<double, 3>& u,
@@ -127,6 +127,7 @@ void Simulation::add_wall(std::array<double, 3> point, std::array<double, 3> nor
   }
   w.k = stiffness;
   m_->walls.push_back(w);
+  m_->walls_changed();
 }
 
 void Simulation::initialise() { m_->initialise(); }
@@ -159,6 +160,8 @@ std::array<double, 3> Simulation::group_force(const std::string& group) const {
 double Simulation::kinetic_energy() const { return m_->kinetic_energy(); }
 double Simulation::bond_energy() const { return m_->bond_energy(); }
 double Simulation::external_work() const { return m_->external_work(); }
+double Simulation::exchange_work() const { return m_->exchange_work(); }
+double Simulation::energy_floor() const { return m_->energy_floor(); }
 double Simulation::damping_dissipation() const { return m_->damping_dissipation(); }
 std::size_t Simulation::broken_count(BreakMode mode) const {
   return m_->broken_count(static_cast<int>(mode));

@@ -268,10 +268,13 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
     col("dx_prev", &BcParticle::dx_prev);
     col("f_int", &BcParticle::f_int);
     col("w_ahead", &BcParticle::w_ahead);
+    col("exchange", &BcParticle::exchange);
+    col("w_ahead_exchange", &BcParticle::w_ahead_ex);
   });
   // per-block accumulators: work and dissipation are summed per block, in block order
   io.table("blocks", *s.acc, [](auto&& col) {
     col("work", &BlockAcc::work);
+    col("exchange_work", &BlockAcc::work_ex);
     col("dissipated", &BlockAcc::dissipated);
     col("kinetic_energy", &BlockAcc::ke);
     col("stored_energy", &BlockAcc::eb);

@@ -86,6 +86,12 @@ Solver& Solver::operator=(Solver&&) noexcept = default;
 
 void Solver::fix(std::size_t d) { prescribe(d, 0.0, 0.0); }
 
+void Solver::mark_exchange(std::size_t d) {
+  STRATA_CHECK(d < is_prescribed_.size() && is_prescribed_[d], Input,
+               "FEM: mark_exchange({}): the DOF is not prescribed", d);
+  prescribed_[prescribed_index_[d]].exchange = true;
+}
+
 void Solver::prescribe(std::size_t d, double u, double v) {
   STRATA_CHECK(!initialised_, Input, "FEM: prescribed DOFs must be declared before initialise()");
   STRATA_CHECK(d < is_prescribed_.size(), Input, "FEM: DOF {} out of range (model has {} DOFs)", d,
@@ -96,7 +102,8 @@ void Solver::prescribe(std::size_t d, double u, double v) {
     prescribed_index_[d] = prescribed_.size();
     prescribed_.push_back({d, u, v, time_});
   } else {
-    prescribed_[prescribed_index_[d]] = {d, u, v, time_};
+    Prescribed& p = prescribed_[prescribed_index_[d]];
+    p = {d, u, v, time_, p.exchange};
   }
   u_[static_cast<Eigen::Index>(d)] = u;
   v_[static_cast<Eigen::Index>(d)] = v;
@@ -262,7 +269,9 @@ void Solver::step() {
   std::size_t k = 0;
   for (const Load& l : loads_) {
     const double fnew = l.f(time_), unew = u_[static_cast<Eigen::Index>(l.dof)];
-    work_abs_ += std::abs(0.5 * (fnew + work_force_prev_[k]) * (unew - work_u_prev_[k]));
+    const double dw = 0.5 * (fnew + work_force_prev_[k]) * (unew - work_u_prev_[k]);
+    work_abs_ += std::abs(dw);
+    user_work_ += dw;
     work_force_prev_[k] = fnew;
     work_u_prev_[k++] = unew;
   }
@@ -270,7 +279,12 @@ void Solver::step() {
     const double unew = u_[static_cast<Eigen::Index>(p.dof)];
     if (unew != work_u_prev_[k] || p.v0 != 0) {
       const double fnew = sys_.K.row(static_cast<Eigen::Index>(p.dof)).dot(u_);
-      work_abs_ += std::abs(0.5 * (fnew + work_force_prev_[k]) * (unew - work_u_prev_[k]));
+      const double dw = 0.5 * (fnew + work_force_prev_[k]) * (unew - work_u_prev_[k]);
+      work_abs_ += std::abs(dw);
+      if (p.exchange)
+        exchange_work_abs_ += std::abs(dw);
+      else
+        user_work_ += dw;
       work_force_prev_[k] = fnew;
       work_u_prev_[k] = unew;
     }

@@ -28,6 +28,7 @@ namespace {
 
 constexpr std::uint32_t kNone = UINT32_MAX;
 
+#if STRATA_WITH_GMSH  // the general construction meshes the geometry with gmsh
 std::string quoted(const std::vector<std::string>& names) {
   std::string s;
   for (const auto& n : names) s += (s.empty() ? "\"" : ", \"") + n + "\"";
@@ -47,7 +48,6 @@ struct Meshed {
   std::size_t gamma_entities = 0;
 };
 
-#if STRATA_WITH_GMSH
 /// Reads the geometry, finds Γ (boundary entities shared by a particle region's entity and
 /// an FEM region's), meshes all regions at once with the size field of `opt`.
 Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::string>& particle_regions,
@@ -191,7 +191,6 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
   }
   return m;
 }
-#endif
 
 /// Facets (sorted node indices) of the named cells: Γ (one particle and one FEM cell) and
 /// the outer boundary of their union (one cell only), as facet meshes on the cells' nodes.
@@ -276,6 +275,7 @@ std::vector<double> shape_functions(const Vec3* v, int dim, const Vec3& p) {
   n[0] = rest;
   return n;
 }
+#endif
 
 OverlapModel build_general(const std::filesystem::path& file,
                            const std::vector<std::string>& particle_regions,

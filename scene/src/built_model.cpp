@@ -48,7 +48,13 @@ double BuiltModel::time() const {
 void BuiltModel::advance(std::int64_t n) {
   if (coupled()) {
     STRATA_ASSERT(n % eta == 0);
-    coupler_->run(n / eta);
+    take_initial_energy();
+    for (std::int64_t left = n / eta; left > 0;) {
+      const std::int64_t k = std::min(left, kCoupledCheckEvery);
+      coupler_->run(k);
+      left -= k;
+      check_coupled_energy();
+    }
   } else if (dem_) {
     dem_->run(n);
   } else if (has_fem()) {
@@ -56,8 +62,41 @@ void BuiltModel::advance(std::int64_t n) {
   }
 }
 
+namespace {
+/// Energy of the particles and the FEM together (J).
+double coupled_energy(const BuiltModel& m) {
+  return m.sim().kinetic_energy() + m.sim().bond_energy() + m.fem().kinetic_energy() +
+         m.fem().strain_energy();
+}
+}  // namespace
+
+void BuiltModel::take_initial_energy() {
+  if (!coupled() || coupled_energy0 >= 0) return;
+  coupled_energy0 = coupled_energy(*this);
+  coupled_last_good = step_count();
+}
+
+void BuiltModel::check_coupled_energy() {
+  const double e = coupled_energy(*this);
+  // work of loads and boundary conditions: each part's work less what came from the other
+  const double w_dem = std::abs(sim().external_work() - sim().exchange_work());
+  const double w_fem = std::abs(fem().user_work());
+  const double budget =
+      10 * (std::max(coupled_energy0, 0.0) + w_dem + w_fem) + sim().energy_floor() + fem().energy_floor();
+  if (!(e <= budget))
+    fail(ErrorKind::Numerical,
+         "coupled blow-up at step {}, t = {:.6g} s: particles and FEM hold {:.4g} J, more than {:.4g} J "
+         "(10 x (initial {:.4g} J + work of loads and boundaries {:.4g} J)); the energy comes from the "
+         "exchange between the parts: eta x dt = {} x {:.4g} s against the particles' critical step "
+         "{:.4g} s; last good step {}",
+         step_count(), time(), e, budget, std::max(coupled_energy0, 0.0), w_dem + w_fem, eta, dt, dt_crit,
+         coupled_last_good);
+  coupled_last_good = step_count();
+}
+
 std::int64_t BuiltModel::last_good_step() const {
   std::int64_t good = has_particles() ? sim().last_good_step() : step_count();
+  if (coupled()) good = std::min(good, coupled_last_good);
   // The FEM side counts FEM steps: η DEM steps each.
   if (has_fem()) good = std::min(good, fem().last_good_step() * (has_particles() ? eta : 1));
   return good;

@@ -24,21 +24,20 @@ struct Cadence {
 
   /// Steps are counted in units of `quantum` steps of the scene's dt (a coupled model's
   /// system steps); the [output] step counts are rounded up to whole units.
-  Cadence(const Table& o, std::int64_t total_steps, double time_step, std::int64_t quantum = 1)
+  Cadence(const OutputTable& o, std::int64_t total_steps, double time_step, std::int64_t quantum = 1)
       : steps(total_steps), dt(time_step) {
     auto units = [quantum](std::int64_t n) { return (n + quantum - 1) / quantum; };
-    probe_every = o.integer("probe_every") > 0 ? units(o.integer("probe_every"))
-                                               : std::max<std::int64_t>(1, steps / 1000);
-    checkpoint_every = units(o.integer("checkpoint_every"));
-    if (o.integer("frame_every_breaks") > 0) {
+    probe_every = o.probe_every > 0 ? units(o.probe_every) : std::max<std::int64_t>(1, steps / 1000);
+    checkpoint_every = units(o.checkpoint_every);
+    if (o.frame_every_breaks > 0) {
       frames = Frames::Breaks;
-      frame_breaks = o.integer("frame_every_breaks");
-    } else if (o.real("frame_every_time") > 0) {
+      frame_breaks = o.frame_every_breaks;
+    } else if (o.frame_every_time > 0) {
       frames = Frames::Time;
-      frame_time = o.real("frame_every_time");
-    } else if (o.integer("frames") > 0) {
+      frame_time = o.frame_every_time;
+    } else if (o.frames > 0) {
       frames = Frames::Steps;
-      frame_every = std::max<std::int64_t>(1, steps / o.integer("frames"));
+      frame_every = std::max<std::int64_t>(1, steps / o.frames.value);
     }
   }
 

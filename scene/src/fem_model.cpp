@@ -26,12 +26,12 @@ namespace {
 /// E = 2√2·Kn(2Kn+3Ks)/(d(4Kn+Ks)) and ν = (Kn−Ks)/(4Kn+Ks) (Liu, Pollard & Shi 2013). The
 /// density per volume is the lattice's mass over its area times the thickness (2D: density/t,
 /// the [[material]] density being per unit area of the lattice) or its volume (3D).
-fem::Material continuum(const Table& mat, int dim, double thickness, double diameter) {
+fem::Material continuum(const MaterialTable& mat, int dim, double thickness, double diameter) {
   fem::Material m;
-  const double kn = mat.real("kn"), ks = mat.real("ks");
-  if (mat.has("youngs_modulus")) {
-    m.E = mat.real("youngs_modulus");
-    m.nu = mat.real("poisson_ratio");
+  const double kn = mat.kn, ks = mat.ks;
+  if (mat.youngs_modulus.given) {
+    m.E = mat.youngs_modulus;
+    m.nu = mat.poisson_ratio;
   } else if (dim == 2) {
     m.E = 2 * std::numbers::sqrt3 * kn * (kn + ks) / (3 * kn + ks) / thickness;
     m.nu = (kn - ks) / (3 * kn + ks);
@@ -39,30 +39,30 @@ fem::Material continuum(const Table& mat, int dim, double thickness, double diam
     STRATA_CHECK(diameter > 0, Input,
                  "{}: material '{}' fills an FEM region of a scene without particles: "
                  "give it youngs_modulus and poisson_ratio",
-                 mat.where("name").str(), mat.str("name"));
+                 mat.name.pos.str(), mat.name.value);
     m.E = 2 * std::numbers::sqrt2 * kn * (2 * kn + 3 * ks) / (diameter * (4 * kn + ks));
     m.nu = (kn - ks) / (4 * kn + ks);
   }
-  m.rho = dim == 2 ? mat.real("density") / thickness : mat.real("density");
+  m.rho = dim == 2 ? mat.density / thickness : mat.density;
   m.thickness = thickness;
   m.plane = fem::PlaneMode::Stress;
   return m;
 }
 
-const Table& material_table(const Scene& sc, const std::string& name) {
-  for (const auto& t : sc.tables("material"))
-    if (t.str("name") == name) return t;
+const MaterialTable& material_table(const Scene& sc, const std::string& name) {
+  for (const auto& t : sc.materials)
+    if (t.name == name) return t;
   fail(ErrorKind::Internal, "material '{}' not found after validation", name);
 }
 
 /// FEM nodes of a group: the candidates (the nodes of the named region, or of every FEM
 /// region) that the selection picks.
-std::vector<std::uint32_t> select_nodes(const Table& g, const preprocess::SimplexMesh& mesh,
+std::vector<std::uint32_t> select_nodes(const GroupTable& g, const preprocess::SimplexMesh& mesh,
                                         const std::vector<std::uint32_t>& candidates) {
-  const std::string& sel = g.str("select");
-  if (sel == "all") return candidates;
-  if (sel == "box") {
-    const auto lo = vec3(g.reals("box_min")), hi = vec3(g.reals("box_max"));
+  const GroupSelect sel = g.select;
+  if (sel == GroupSelect::All) return candidates;
+  if (sel == GroupSelect::Box) {
+    const auto lo = vec3(g.box_min), hi = vec3(g.box_max);
     std::vector<std::uint32_t> out;
     for (auto n : candidates) {
       const auto x = mesh.node(n);
@@ -73,18 +73,18 @@ std::vector<std::uint32_t> select_nodes(const Table& g, const preprocess::Simple
     return out;
   }
   int axis = -1, side = 0;
-  if (sel == "top_row") axis = 1, side = 1;
-  if (sel == "bottom_row") axis = 1, side = -1;
-  if (sel == "right_column") axis = 0, side = 1;
-  if (sel == "left_column") axis = 0, side = -1;
-  if (sel == "top_layer") axis = 2, side = 1;
-  if (sel == "bottom_layer") axis = 2, side = -1;
+  if (sel == GroupSelect::TopRow) axis = 1, side = 1;
+  if (sel == GroupSelect::BottomRow) axis = 1, side = -1;
+  if (sel == GroupSelect::RightColumn) axis = 0, side = 1;
+  if (sel == GroupSelect::LeftColumn) axis = 0, side = -1;
+  if (sel == GroupSelect::TopLayer) axis = 2, side = 1;
+  if (sel == GroupSelect::BottomLayer) axis = 2, side = -1;
   if (axis < 0)
-    g.fail("select",
-           fmt::format("select = \"{}\" picks particles; FEM nodes are picked with \"all\", \"box\", "
-                       "\"top_row\", \"bottom_row\", \"left_column\", \"right_column\", \"top_layer\" "
-                       "or \"bottom_layer\" (the nodes on the region's extreme side)",
-                       sel));
+    g.select.fail(
+        fmt::format("select = \"{}\" picks particles; FEM nodes are picked with \"all\", \"box\", "
+                    "\"top_row\", \"bottom_row\", \"left_column\", \"right_column\", \"top_layer\" "
+                    "or \"bottom_layer\" (the nodes on the region's extreme side)",
+                    to_string(sel)));
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (auto n : candidates) lo = std::min(lo, mesh.node(n)[axis]), hi = std::max(hi, mesh.node(n)[axis]);
   const double tol = 1e-6 * std::max(hi - lo, 1e-300);
@@ -180,61 +180,61 @@ void fem_conditions(const Scene& sc, const preprocess::SimplexMesh& mesh,
   for (const auto& [name, nodes] : region_nodes) every.insert(every.end(), nodes.begin(), nodes.end());
   std::sort(every.begin(), every.end());
   every.erase(std::unique(every.begin(), every.end()), every.end());
-  for (const auto& g : sc.tables("group")) {
-    const std::string& region = g.str("region");
+  for (const auto& g : sc.groups) {
+    const std::string& region = g.region;
     const bool fem_region = region_nodes.count(region) > 0;
     if (!region.empty() && !fem_region) continue;  // a particle region's group
     std::vector<std::uint32_t> nodes = select_nodes(g, mesh, fem_region ? region_nodes.at(region) : every);
-    if (nodes.empty() && !m.groups.count(g.str("name")))
-      g.fail("select", fmt::format("group '{}' selects no particle and no FEM node", g.str("name")));
-    if (!nodes.empty()) m.fem_groups[g.str("name")] = std::move(nodes);
+    if (nodes.empty() && !m.groups.count(g.name))
+      g.select.fail(fmt::format("group '{}' selects no particle and no FEM node", g.name.value));
+    if (!nodes.empty()) m.fem_groups[g.name] = std::move(nodes);
   }
-  for (const auto& b : sc.tables("boundary")) {
-    const auto it = m.fem_groups.find(b.str("group"));
+  for (const auto& b : sc.boundaries) {
+    const auto it = m.fem_groups.find(b.group);
     if (it == m.fem_groups.end()) continue;
-    const std::string& type = b.str("type");
-    if (type == "step_displacement")
-      b.fail("type",
-             fmt::format("group '{}' holds FEM nodes: a step_displacement boundary moves particles only; "
-                         "use type = \"velocity\" (or \"fixed\") for FEM nodes",
-                         b.str("group")));
-    const unsigned axes = axes_mask(b.strings("axes"), dim);
-    const auto v = type == "velocity" ? vec3(b.reals("velocity")) : std::array<double, 3>{};
+    const BoundaryType type = b.type;
+    if (type == BoundaryType::StepDisplacement)
+      b.type.fail(
+          fmt::format("group '{}' holds FEM nodes: a step_displacement boundary moves particles only; "
+                      "use type = \"velocity\" (or \"fixed\") for FEM nodes",
+                      b.group.value));
+    const unsigned axes = axes_mask(b.axes, dim);
+    const auto v = type == BoundaryType::Velocity ? vec3(b.velocity) : std::array<double, 3>{};
     for (auto n : it->second)
       for (int a = 0; a < dim; ++a) {
         if (!(axes >> a & 1u)) continue;
         const std::size_t d = std::size_t(n) * std::size_t(dim) + std::size_t(a);
-        if (type == "fixed")
+        if (type == BoundaryType::Fixed)
           solver.fix(d);
         else
           solver.prescribe(d, 0.0, v[a]);
       }
   }
-  for (const auto& l : sc.tables("load")) {
-    const auto it = m.fem_groups.find(l.str("group"));
+  for (const auto& l : sc.loads) {
+    const auto it = m.fem_groups.find(l.group);
     if (it == m.fem_groups.end()) continue;
-    const double share = l.str("per") == "group" ? 1.0 / double(it->second.size()) : 1.0;
+    const double share = l.per == LoadPer::Group ? 1.0 / double(it->second.size()) : 1.0;
     for (int a = 0; a < dim; ++a) {
       HistoryComponent h;
-      h.t = l.reals("times");
-      for (const auto& row : l.real_table("forces")) h.f.push_back(share * vec3(row)[a]);
+      h.t = l.times;
+      for (const auto& row : l.forces.value) h.f.push_back(share * vec3(row)[a]);
       if (std::all_of(h.f.begin(), h.f.end(), [](double f) { return f == 0; })) continue;
       for (auto n : it->second) solver.add_load(std::size_t(n) * std::size_t(dim) + std::size_t(a), h);
     }
   }
 }
 
-fem::Scheme scheme_of(const Table& solver, double dt_fem, double explicit_limit) {
-  const std::string& s = solver.str("fem_integrator");
+fem::Scheme scheme_of(const SolverTable& solver, double dt_fem, double explicit_limit) {
+  const std::string& s = solver.fem_integrator;
   if (s != "auto") return fem::scheme_from_string(s);
   return dt_fem <= explicit_limit ? fem::Scheme::CentralDifference : fem::Scheme::ImplicitNewmark;
 }
 
 /// A model of FEM regions only.
 BuiltModel build_fem_only(const Scene& sc, bool force) {
-  const Table& solver = sc.table("solver");
-  const int dim = int(sc.table("scene").integer("dimension"));
-  const double thickness = sc.table("scene").real("thickness");
+  const SolverTable& solver = sc.solver;
+  const int dim = sc.scene.dimension;
+  const double thickness = sc.scene.thickness;
   ModelDescription d = describe_model(sc, /*allow_fem=*/true);
   BuiltModel m;
   m.dim = dim;
@@ -248,27 +248,27 @@ BuiltModel build_fem_only(const Scene& sc, bool force) {
   const auto region_nodes = region_nodes_of(mesh, m.fem_regions, d.fem.size());
   fem::SolverSettings fs;
   fs.dt = 1.0;  // set below, once the critical step is known
-  fs.allow_unstable = force || solver.boolean("allow_unstable");
+  fs.allow_unstable = force || solver.allow_unstable;
   fs.scheme = fem::Scheme::CentralDifference;
   auto part = std::make_unique<couple::FemPartition>(fem::Solver(fem_mesh_of(mesh, materials), fs));
   fem::Solver& s = part->solver();
   fem_conditions(sc, mesh, region_nodes, s, m);
 
   m.fem_explicit_dt_crit = s.stability().explicit_dt_crit;
-  m.dt_automatic = solver.real("dt") == 0;
-  const double dt = m.dt_automatic ? solver.real("dt_safety") * m.fem_explicit_dt_crit : solver.real("dt");
+  m.dt_automatic = solver.dt == 0.0;
+  const double dt = m.dt_automatic ? solver.dt_safety * m.fem_explicit_dt_crit : solver.dt;
   s.set_scheme(scheme_of(solver, dt, m.fem_explicit_dt_crit));
   s.set_dt(dt);
   m.fem_dt_crit = s.stability().dt_crit;
   m.dt_crit = m.fem_dt_crit;
   if (dt > m.fem_dt_crit && !fs.allow_unstable)
-    solver.fail("dt",
-                fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the FEM regions with "
-                            "the {} integrator (dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= "
-                            "{:.4g} s, fem_integrator = \"implicit-newmark\" (unconditionally stable), or "
-                            "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
-                            dt, m.fem_dt_crit, fem::to_string(s.settings().scheme), dt / m.fem_dt_crit,
-                            m.fem_dt_crit, solver.real("dt_safety")));
+    solver.dt.fail(
+        fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the FEM regions with "
+                    "the {} integrator (dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= "
+                    "{:.4g} s, fem_integrator = \"implicit-newmark\" (unconditionally stable), or "
+                    "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
+                    dt, m.fem_dt_crit, fem::to_string(s.settings().scheme), dt / m.fem_dt_crit, m.fem_dt_crit,
+                    solver.dt_safety.value));
   s.initialise();
   m.dt = dt;
   m.steps = step_count_of(solver, m.dt, 1);
@@ -308,63 +308,64 @@ couple::Overlap coupling_links(const preprocess::OverlapModel& ov,
 
 /// Particle regions coupled with FEM regions through the overlap layers of one geometry file.
 BuiltModel build_coupled(const Scene& sc, bool force) {
-  const Table& solver = sc.table("solver");
-  const int dim = int(sc.table("scene").integer("dimension"));
-  const double thickness = sc.table("scene").real("thickness");
+  const SolverTable& solver = sc.solver;
+  const int dim = sc.scene.dimension;
+  const double thickness = sc.scene.thickness;
 
   // Every region of a coupled scene comes from one geometry file, with one lattice.
   std::vector<std::string> particle_names, fem_names;
-  const Table* first_particles = nullptr;
+  const RegionTable* first_particles = nullptr;
   std::string file;
   double far_size = 0;
-  for (const auto& r : sc.tables("region")) {
-    const bool particles = r.str("kind") == "particles";
-    if (r.str("shape") != "file")
-      r.fail("shape",
-             fmt::format("region '{}': a scene with particle and FEM regions couples them through the "
-                         "interfaces of one geometry file; every region must be shape = \"file\" "
-                         "(allowed: a physical group of the geometry file)",
-                         r.str("name")));
-    if (file.empty()) file = r.str("file");
-    if (r.str("file") != file)
-      r.fail("file", fmt::format("region '{}' is in {}, the first region in {}: the particle and FEM regions "
-                                 "of a coupled scene must come from one geometry file",
-                                 r.str("name"), r.str("file"), file));
+  for (const auto& r : sc.regions) {
+    const bool particles = r.kind == RegionKind::Particles;
+    if (r.shape != RegionShape::File)
+      r.shape.fail(
+          fmt::format("region '{}': a scene with particle and FEM regions couples them through the "
+                      "interfaces of one geometry file; every region must be shape = \"file\" "
+                      "(allowed: a physical group of the geometry file)",
+                      r.name.value));
+    if (file.empty()) file = r.file->string();
+    if (r.file->string() != file)
+      r.file.fail(
+          fmt::format("region '{}' is in {}, the first region in {}: the particle and FEM regions "
+                      "of a coupled scene must come from one geometry file",
+                      r.name.value, r.file->string(), file));
     if (particles) {
       if (!first_particles) first_particles = &r;
-      if (r.real("diameter") != first_particles->real("diameter") ||
-          r.str("lattice") != first_particles->str("lattice") ||
-          r.real("orientation") != first_particles->real("orientation"))
-        r.fail("diameter",
-               fmt::format("region '{}': the particle regions of a coupled scene share one lattice "
-                           "(diameter, lattice and orientation of region '{}')",
-                           r.str("name"), first_particles->str("name")));
-      if (r.str("eccentricity") != "none")
-        r.fail("eccentricity",
-               "eccentric particle regions cannot be coupled with FEM regions yet (allowed: "
-               "eccentricity = \"none\")");
-      particle_names.push_back(r.str("physical"));
+      if (r.diameter.value != first_particles->diameter.value ||
+          r.lattice.value != first_particles->lattice.value ||
+          r.orientation.value != first_particles->orientation.value)
+        r.diameter.fail(
+            fmt::format("region '{}': the particle regions of a coupled scene share one lattice "
+                        "(diameter, lattice and orientation of region '{}')",
+                        r.name.value, first_particles->name.value));
+      if (r.eccentricity != RegionEccentricity::None)
+        r.eccentricity.fail(
+            "eccentric particle regions cannot be coupled with FEM regions yet (allowed: "
+            "eccentricity = \"none\")");
+      particle_names.push_back(r.physical);
     } else {
-      fem_names.push_back(r.str("physical"));
-      far_size = std::max(far_size, r.real("mesh_size"));
+      fem_names.push_back(r.physical);
+      far_size = std::max(far_size, r.mesh_size.value);
     }
   }
-  const Table& pr = *first_particles;
+  const RegionTable& pr = *first_particles;
   preprocess::OverlapOptions oo;
-  std::string lattice = pr.str("lattice");
+  std::string lattice = pr.lattice;
   if (lattice == "auto") lattice = dim == 2 ? "hex" : "hcp";
   oo.kind = lattice == "hex"   ? preprocess::LatticeKind::Hex2D
             : lattice == "hcp" ? preprocess::LatticeKind::HCP
                                : preprocess::LatticeKind::FCC;
-  oo.d = pr.real("diameter");
+  oo.d = pr.diameter;
   oo.far_size = far_size;
-  oo.orientation_deg = pr.real("orientation");
+  oo.orientation_deg = pr.orientation;
   preprocess::OverlapModel ov;
   try {
     ov = preprocess::build_coupled_model(file, particle_names, fem_names, oo);
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Input) throw;
-    pr.fail("file", e.what());  // the geometry's problem, at the scene line that names it
+    pr.file.fail(e.what());  // the geometry's problem, at the scene line that names it
   }
 
   // Particles: the overlap's, region by region, then the band ("overlap", DEM externals).
@@ -372,9 +373,9 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
   const std::vector<std::uint32_t> particle_id = d.overlap_particle_id;
   BuiltModel m;
   m.dim = dim;
-  m.eta = int(solver.integer("eta"));
+  m.eta = int(solver.eta);
   m.execution_mode =
-      solver.str("coupling") == "parallel" ? couple::Execution::Parallel : couple::Execution::Serial;
+      solver.coupling == SolverCoupling::Parallel ? couple::Execution::Parallel : couple::Execution::Serial;
   dem::Settings ds = dem_settings(sc, force);
   ds.dt = std::numeric_limits<double>::min();  // set below, once the critical steps are known
   dem::Simulation sim(dim, ds);
@@ -385,8 +386,7 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
   std::vector<fem::Material> group_material;
   std::map<std::string, std::string> material_of;  // physical group -> material
   std::map<std::string, std::string> name_of;      // physical group -> region name
-  for (const auto& r : sc.tables("region"))
-    material_of[r.str("physical")] = r.str("material"), name_of[r.str("physical")] = r.str("name");
+  for (const auto& r : sc.regions) material_of[r.physical] = r.material, name_of[r.physical] = r.name;
   std::vector<std::size_t> group_elements(ov.fem.group_names.size(), 0);
   for (auto g : ov.fem.cell_group) ++group_elements[std::size_t(g)];
   for (std::size_t g = 0; g < ov.fem.group_names.size(); ++g) {
@@ -423,44 +423,44 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
   fem::Solver& f = m.fem();
   m.dt_crit = s.critical_dt();
   m.fem_explicit_dt_crit = f.stability().explicit_dt_crit;
-  m.dt_automatic = solver.real("dt") == 0;
+  m.dt_automatic = solver.dt == 0.0;
   const double eta = double(m.eta);
-  double dt = solver.real("dt");
+  double dt = solver.dt;
   if (m.dt_automatic) {
-    dt = solver.real("dt_safety") * m.dt_crit;
-    if (solver.str("fem_integrator") != "auto" &&
-        fem::is_explicit(fem::scheme_from_string(solver.str("fem_integrator"))))
-      dt = std::min(dt, solver.real("dt_safety") * m.fem_explicit_dt_crit / eta);
+    dt = solver.dt_safety * m.dt_crit;
+    if (solver.fem_integrator.value != "auto" &&
+        fem::is_explicit(fem::scheme_from_string(solver.fem_integrator.value)))
+      dt = std::min(dt, solver.dt_safety * m.fem_explicit_dt_crit / eta);
   }
   if (dt > m.dt_crit && !ds.allow_unstable)
-    solver.fail("dt",
-                fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the particles (the "
-                            "overlap's external particles held; dt/dt_crit = {:.3f}); the run would blow up. "
-                            "Allowed: dt <= {:.4g} s, or dt = 0 for {} x dt_crit; solver.allow_unstable = "
-                            "true or --force runs anyway",
-                            dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
+    solver.dt.fail(
+        fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the particles (the "
+                    "overlap's external particles held; dt/dt_crit = {:.3f}); the run would blow up. "
+                    "Allowed: dt <= {:.4g} s, or dt = 0 for {} x dt_crit; solver.allow_unstable = "
+                    "true or --force runs anyway",
+                    dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.dt_safety.value));
   // The exchange itself: copies η·dt apart drive the particles' side like a step of η·dt.
   // Measured on the tunnel example (interpolated overlap): stable at η·dt = 0.6·dt_crit, growing
   // without bound at 0.9 and above; strata refuses more than kExchangeLimit·dt_crit.
   constexpr double kExchangeLimit = 0.65;
   if (eta * dt > kExchangeLimit * m.dt_crit && !ds.allow_unstable)
-    solver.fail("eta",
-                fmt::format("the exchange interval eta x dt = {} x {:.4g} s = {:.4g} s exceeds {} x the "
-                            "particles' critical step {:.4g} s: the coupled exchange grows unstable there. "
-                            "Allowed: eta <= {}",
-                            m.eta, dt, eta * dt, kExchangeLimit, m.dt_crit,
-                            std::max(1, int(std::floor(kExchangeLimit * m.dt_crit / dt)))));
+    solver.eta.fail(
+        fmt::format("the exchange interval eta x dt = {} x {:.4g} s = {:.4g} s exceeds {} x the "
+                    "particles' critical step {:.4g} s: the coupled exchange grows unstable there. "
+                    "Allowed: eta <= {}",
+                    m.eta, dt, eta * dt, kExchangeLimit, m.dt_crit,
+                    std::max(1, int(std::floor(kExchangeLimit * m.dt_crit / dt)))));
   f.set_scheme(scheme_of(solver, eta * dt, m.fem_explicit_dt_crit));
   f.set_dt(eta * dt);
   m.fem_dt_crit = f.stability().dt_crit;
   if (eta * dt > m.fem_dt_crit && !ds.allow_unstable)
-    solver.fail("eta",
-                fmt::format("the FEM step eta x dt = {} x {:.4g} s = {:.4g} s exceeds the limit {:.4g} s of "
-                            "the {} integrator (the overlap's external nodes held); allowed: eta <= {}, or "
-                            "fem_integrator = \"implicit-newmark\" (or \"auto\", which takes it above the "
-                            "explicit limit)",
-                            m.eta, dt, eta * dt, m.fem_dt_crit, fem::to_string(f.settings().scheme),
-                            std::max(1, int(std::floor(m.fem_dt_crit / dt)))));
+    solver.eta.fail(
+        fmt::format("the FEM step eta x dt = {} x {:.4g} s = {:.4g} s exceeds the limit {:.4g} s of "
+                    "the {} integrator (the overlap's external nodes held); allowed: eta <= {}, or "
+                    "fem_integrator = \"implicit-newmark\" (or \"auto\", which takes it above the "
+                    "explicit limit)",
+                    m.eta, dt, eta * dt, m.fem_dt_crit, fem::to_string(f.settings().scheme),
+                    std::max(1, int(std::floor(m.fem_dt_crit / dt)))));
   s.set_dt(dt);
   m.coupler_->initialise(ds.allow_unstable);
   m.dt = dt;
@@ -471,7 +471,7 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
 
 BuiltModel build_fem_model(const Scene& sc, bool force) {
   bool any_particles = false;
-  for (const auto& r : sc.tables("region")) any_particles |= r.str("kind") == "particles";
+  for (const auto& r : sc.regions) any_particles |= r.kind == RegionKind::Particles;
   if (!any_particles) return build_fem_only(sc, force);
   return build_coupled(sc, force);
 }

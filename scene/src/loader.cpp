@@ -1,11 +1,12 @@
-// Scene files: TOML parsing, `--set` overrides, validation against schema() and typed access.
+// Scene files: TOML parsing, `--set` overrides, validation against schema(), and the typed scene.
 //
 // The loader works in four passes; each pass collects its problems and throws the first one
 // in file order (overrides first), so the message does not depend on map order:
 //   1. TOML syntax (toml++ reports line:col);
 //   2. `--set` overrides, applied onto the parsed tree (a bad address throws at once);
 //   3. every table and key: known names, types, ranges, choices, files, list lengths;
-//   4. checks between keys: shape-dependent keys, cross-references, unique names.
+//   4. checks between keys: shape-dependent keys, cross-references, unique names (checks.cpp).
+// The validated tables are then read into the typed scene (tables/describe.cpp).
 #include <strata/core/error.hpp>
 
 #include <fmt/format.h>
@@ -20,314 +21,18 @@
 #include <sstream>
 #include <utility>
 
-#include <strata/scene/scene.hpp>
+#include "loader_text.hpp"
+#include "table.hpp"
 
 namespace strata::scene {
 
 namespace fs = std::filesystem;
 
-// ---- SourcePos, Table, Scene ---------------------------------------------------------------
-
-std::string SourcePos::str() const {
-  if (file == "--set") return "--set " + setting;
-  if (line <= 0) return file;
-  return fmt::format("{}:{}:{}", file, line, column);
-}
-
-SourcePos Table::where(const std::string& key) const {
-  auto it = values_.find(key);
-  return it != values_.end() && it->second.given ? it->second.pos : pos_;
-}
-
-bool Table::given(const std::string& key) const {
-  auto it = values_.find(key);
-  return it != values_.end() && it->second.given;
-}
-
-bool Table::has(const std::string& key) const { return values_.count(key) != 0; }
-
-const Value& Table::get(const std::string& key) const {
-  auto it = values_.find(key);
-  if (it == values_.end())
-    throw Error(ErrorKind::Internal,
-                fmt::format("scene: {}.{} has no value (not declared, or optional and not given: "
-                            "check has() first)",
-                            label_, key));
-  return it->second;
-}
-
 namespace {
-[[noreturn]] void wrong_access(const std::string& label, const std::string& key, const char* as) {
-  throw Error(ErrorKind::Internal,
-              fmt::format("scene: {}.{} read as {}, which is not its declared type", label, key, as));
-}
-}  // namespace
 
-bool Table::boolean(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type != Type::Bool) wrong_access(label_, key, "a bool");
-  return v.b;
-}
-
-std::int64_t Table::integer(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type != Type::Integer) wrong_access(label_, key, "an integer");
-  return v.i;
-}
-
-double Table::real(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type == Type::Integer) return static_cast<double>(v.i);
-  if (v.type != Type::Real) wrong_access(label_, key, "a real");
-  return v.r;
-}
-
-const std::string& Table::str(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type != Type::String && v.type != Type::Choice && v.type != Type::Path && v.type != Type::OutputPath)
-    wrong_access(label_, key, "a string");
-  return v.s;
-}
-
-const std::vector<double>& Table::reals(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type != Type::RealList) wrong_access(label_, key, "a list of reals");
-  return v.reals;
-}
-
-const std::vector<std::int64_t>& Table::integers(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type != Type::IntegerList) wrong_access(label_, key, "a list of integers");
-  return v.integers;
-}
-
-const std::vector<std::string>& Table::strings(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type != Type::StringList) wrong_access(label_, key, "a list of strings");
-  return v.strings;
-}
-
-const std::vector<std::vector<double>>& Table::real_table(const std::string& key) const {
-  const Value& v = get(key);
-  if (v.type != Type::RealTable) wrong_access(label_, key, "a list of rows of reals");
-  return v.table;
-}
-
-void Table::fail(const std::string& key, const std::string& message) const {
-  throw Error(ErrorKind::Input, where(key).str() + ": " + message);
-}
-
-const Table& Scene::table(const std::string& name) const {
-  auto it = entries.find(name);
-  const bool plain = std::any_of(schema().begin(), schema().end(),
-                                 [&](const TableSpec& t) { return t.name == name && !t.array; });
-  if (!plain || it == entries.end() || it->second.size() != 1)
-    throw Error(ErrorKind::Internal,
-                fmt::format("scene: no single table [{}] (not declared, or an array)", name));
-  return it->second.front();
-}
-
-const std::vector<Table>& Scene::tables(const std::string& name) const {
-  static const std::vector<Table> none;
-  auto it = entries.find(name);
-  return it == entries.end() ? none : it->second;
-}
-
-// ---- helpers -------------------------------------------------------------------------------
-
-namespace {
+using namespace text;  // loader_text.hpp
 
 constexpr std::string_view kSetPath = "--set#";  // source path of override values: "--set#<index>"
-const char* const kAxes[] = {"x", "y", "z"};
-
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-/// Optimal-string-alignment (Damerau-Levenshtein) distance, case-insensitive.
-std::size_t edit_distance(std::string_view a_in, std::string_view b_in) {
-  const std::string a = lower(a_in), b = lower(b_in);
-  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
-  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
-  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
-  for (std::size_t i = 1; i <= a.size(); ++i) {
-    for (std::size_t j = 1; j <= b.size(); ++j) {
-      const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
-      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
-      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
-        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
-    }
-  }
-  return d[a.size()][b.size()];
-}
-
-/// One word is the other plus a "_suffix" ("kn_typo" and "kn", "tensile" and "tensile_strength").
-bool underscore_prefix(std::string_view word, std::string_view cand) {
-  const std::string w = lower(word), c = lower(cand);
-  const auto& shorter = w.size() < c.size() ? w : c;
-  const auto& longer = w.size() < c.size() ? c : w;
-  return shorter.size() >= 2 && longer.size() > shorter.size() &&
-         longer.compare(0, shorter.size(), shorter) == 0 && longer[shorter.size()] == '_';
-}
-
-/// The candidate closest to `word`, when close enough to be a likely misspelling.
-std::optional<std::string> closest(std::string_view word, const std::vector<std::string>& candidates) {
-  const std::size_t limit = word.size() <= 4 ? 1 : word.size() <= 8 ? 2 : 3;
-  std::optional<std::string> best;
-  std::size_t best_d = limit + 1;
-  for (const auto& c : candidates) {
-    const std::size_t dist = edit_distance(word, c);
-    if (dist < best_d && dist < std::min(word.size(), c.size())) best = c, best_d = dist;
-  }
-  if (best) return best;
-  for (const auto& c : candidates)
-    if (underscore_prefix(word, c)) return c;
-  for (const auto& c : candidates)  // an abbreviation: "loc" for "local"
-    if (word.size() >= 3 && c.size() > word.size() && lower(c).compare(0, word.size(), lower(word)) == 0)
-      return c;
-  return std::nullopt;
-}
-
-std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates,
-                         const char* quote = "'") {
-  auto c = closest(word, candidates);
-  return c ? fmt::format("; did you mean {}{}{}?", quote, *c, quote) : "";
-}
-
-std::string join(const std::vector<std::string>& items, std::string_view sep = ", ") {
-  std::string out;
-  for (const auto& s : items) {
-    if (!out.empty()) out += sep;
-    out += s;
-  }
-  return out;
-}
-
-std::string bracket(const TableSpec& t) { return t.array ? "[[" + t.name + "]]" : "[" + t.name + "]"; }
-
-std::vector<std::string> key_names(const TableSpec& t) {
-  std::vector<std::string> out;
-  for (const auto& k : t.keys) out.push_back(k.name);
-  return out;
-}
-
-std::vector<std::string> table_names() {
-  std::vector<std::string> out;
-  for (const auto& t : schema()) out.push_back(t.name);
-  return out;
-}
-
-const TableSpec* find_table(std::string_view name) {
-  for (const auto& t : schema())
-    if (t.name == name) return &t;
-  return nullptr;
-}
-
-const KeySpec* find_key(const TableSpec& t, std::string_view name) {
-  for (const auto& k : t.keys)
-    if (k.name == name) return &k;
-  return nullptr;
-}
-
-std::string unit_suffix(const KeySpec& k) { return k.unit.empty() ? "" : " (" + k.unit + ")"; }
-
-/// What a key is, for "(...)" in messages: the doc's first sentence without "; required when ..."
-/// (the message says that) and with "The" lower-cased ("the material name").
-std::string first_sentence(const std::string& doc) {
-  // The first ". " that ends a sentence (not the one of an "et al." citation).
-  std::size_t end = doc.find(". ");
-  while (end != std::string::npos && end >= 5 && doc.compare(end - 5, 5, "et al") == 0)
-    end = doc.find(". ", end + 2);
-  std::string s = doc.substr(0, std::min(end, doc.find("; required")));
-  if (!s.empty() && s.back() == '.') s.pop_back();
-  // Lower-case a plain first word ("The", "Velocity,") but not a symbol ("Kn:", "Fs0:").
-  std::size_t n = 0;
-  while (n < s.size() && std::isalpha(static_cast<unsigned char>(s[n]))) ++n;
-  const bool plain_word = n > 0 && (n == s.size() || s[n] == ' ' || s[n] == ',') &&
-                          std::all_of(s.begin() + 1, s.begin() + static_cast<std::ptrdiff_t>(n),
-                                      [](char c) { return std::islower(static_cast<unsigned char>(c)); });
-  if (plain_word) s[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(s[0])));
-  return s;
-}
-
-std::string unknown_key_message(std::string_view key, const TableSpec& t) {
-  std::string hint = did_you_mean(key, key_names(t));
-  if (hint.empty()) {  // a key of another table, or a table, written in the wrong place?
-    std::vector<std::string> owners;
-    for (const auto& other : schema())
-      if (find_key(other, key)) owners.push_back(bracket(other));
-    std::vector<std::string> what;
-    if (!owners.empty()) what.push_back("a key of " + join(owners, " and "));
-    if (const TableSpec* table = find_table(key)) what.push_back("the name of a table, " + bracket(*table));
-    if (!what.empty()) hint = fmt::format("; '{}' is {}", key, join(what, " and "));
-  }
-  return fmt::format("unknown key '{}' in {}{} (allowed: {})", key, bracket(t), hint, join(key_names(t)));
-}
-
-/// "2", "at least 1", "2 or 3", "1 to 3", with the noun in the right number.
-std::string count_text(int lo, int hi, std::string_view one, std::string_view many) {
-  if (lo == hi) return fmt::format("{} {}", lo, lo == 1 ? one : many);
-  if (hi == 0) return fmt::format("at least {} {}", lo, lo == 1 ? one : many);
-  if (lo == 0) return fmt::format("at most {} {}", hi, hi == 1 ? one : many);
-  return fmt::format("{} {} {} {}", lo, hi == lo + 1 ? "or" : "to", hi, many);
-}
-
-/// `written` is the table as the user wrote it ("[solvr]"), `name` its bare name.
-std::string unknown_table_message(std::string_view written, std::string_view name) {
-  std::vector<std::string> all;
-  for (const auto& t : schema()) all.push_back(bracket(t));
-  auto best = closest(name, table_names());
-  std::string hint = best ? fmt::format("; did you mean {}?", bracket(*find_table(*best))) : "";
-  return fmt::format("unknown table {}{} (allowed: {})", written, hint, join(all));
-}
-
-bool in_range(const KeySpec& k, double x) {
-  if (k.min && (k.min_exclusive ? !(x > *k.min) : !(x >= *k.min))) return false;
-  if (k.max && (k.max_exclusive ? !(x < *k.max) : !(x <= *k.max))) return false;
-  return true;
-}
-
-/// "x, y" for 2D.
-std::string axes_text(int dim) {
-  std::vector<std::string> a(kAxes, kAxes + dim);
-  return join(a);
-}
-
-std::string toml_quote(std::string_view s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += c;
-    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
-      out += fmt::format("\\u{:04X}", static_cast<unsigned>(static_cast<unsigned char>(c)));
-    } else {
-      out += c;
-    }
-  }
-  return out + "\"";
-}
-
-std::string trim(std::string_view s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string_view::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return std::string(s.substr(b, e - b + 1));
-}
-
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  for (std::string l; std::getline(in, l);) {
-    if (!l.empty() && l.back() == '\r') l.pop_back();
-    lines.push_back(l);
-  }
-  return lines;
-}
-
-// ---- the loader ----------------------------------------------------------------------------
 
 struct Problem {
   SourcePos pos;
@@ -348,10 +53,15 @@ class Loader {
   Scene run() {
     toml::table root = parse_text();
     for (std::size_t i = 0; i < sets_.size(); ++i) apply_override(root, static_cast<int>(i));
-    Scene scene = check_tables(root);
+    const Tables tables = check_tables(root);
     flush();
-    check_between_keys(scene);
+    check_between_keys(
+        tables, [this](const SourcePos& pos, std::string message) { report(pos, std::move(message)); });
     flush();
+    Scene scene;
+    scene.file = file_;
+    scene.dir = dir_;
+    describe(tables, scene);
     return scene;
   }
 
@@ -580,10 +290,8 @@ class Loader {
 
   // -- pass 3: tables and keys --
 
-  Scene check_tables(const toml::table& root) {
-    Scene scene;
-    scene.file = file_;
-    scene.dir = dir_;
+  Tables check_tables(const toml::table& root) {
+    Tables scene;
 
     // [scene] first: its dimension decides list lengths and defaults everywhere else.
     dim_ = 0;
@@ -1024,229 +732,7 @@ class Loader {
     return std::nullopt;
   }
 
-  // -- pass 4: checks between keys --
-
-  static std::string entry_title(const TableSpec& spec, const Table& t) {
-    if (!spec.array) return bracket(spec);
-    if (t.has("name")) return fmt::format("{} '{}'", bracket(spec), t.str("name"));
-    const std::string& l = t.label();
-    return fmt::format("{} at index {}", bracket(spec),
-                       l.substr(l.find('[') + 1, l.size() - l.find('[') - 2));
-  }
-
-  /// `key` of `t` must be one of `names`, the names of `what` ("[[material]]").
-  void check_reference(const Table& t, const std::string& key, const std::string& what,
-                       const std::vector<std::string>& names, const std::string& why = "") {
-    const std::string& v = t.str(key);
-    if (std::find(names.begin(), names.end(), v) != names.end()) return;
-    report(t.where(key),
-           fmt::format("{} = \"{}\" names no {}{}{} ({})", key, v, what, why, did_you_mean(v, names),
-                       names.empty() ? "there are none" : "defined: " + join(names)));
-  }
-
-  /// Names of the entries of an array table; a repeated name is a problem.
-  std::vector<std::string> unique_names(const Scene& scene, const std::string& table) {
-    std::vector<std::string> names;
-    const auto& entries = scene.tables(table);
-    for (std::size_t j = 0; j < entries.size(); ++j) {
-      const std::string& n = entries[j].str("name");
-      if (n.empty()) report(entries[j].where("name"), "name must not be empty");
-      const auto it = std::find(names.begin(), names.end(), n);
-      if (it != names.end()) {
-        report(entries[j].where("name"),
-               fmt::format("[[{}]] name '{}' is used twice (first at {})", table, n,
-                           entries[static_cast<std::size_t>(it - names.begin())].where("name").str()));
-      }
-      names.push_back(n);
-    }
-    return names;
-  }
-
-  /// `t` must have `key` when `condition_key` has the value that needs it.
-  void need(const TableSpec& spec, const Table& t, const std::string& key, const std::string& condition_key) {
-    if (t.has(key)) return;
-    report(t.where(condition_key),
-           fmt::format("{} needs '{}' for {} = \"{}\" ({})", entry_title(spec, t), key, condition_key,
-                       t.str(condition_key), first_sentence(find_key(spec, key)->doc)));
-  }
-
-  /// Checks between the keys of [coupled] (stability needs the model: report.cpp, wave_report.cpp).
-  void check_coupled(const Scene& scene) {
-    const Table& c = scene.table("coupled");
-    const TableSpec& spec = *find_table("coupled");
-    const std::string& name = c.str("case");
-    // A key declared for other cases (KeySpec::cases) is refused, naming what this case takes.
-    for (const KeySpec& k : spec.keys) {
-      if (k.cases.empty() || !c.given(k.name) ||
-          std::find(k.cases.begin(), k.cases.end(), name) != k.cases.end())
-        continue;
-      std::vector<std::string> quoted;
-      for (const auto& other : k.cases) quoted.push_back("\"" + other + "\"");
-      report(c.where(k.name),
-             fmt::format("{} applies only to case = {} (this scene has case = \"{}\"); remove "
-                         "it (case = \"{}\" takes: {})",
-                         k.name, join(quoted, " or "), name, name, join(coupled_case_keys(name))));
-    }
-    const bool wave = name == "wave";
-    if (wave) {
-      need(spec, c, "geometry", "case");
-    } else {
-      need(spec, c, "dt_dem", "case");
-    }
-    // Not given: the case's default list (the chains': the paper's, up to 20).
-    const std::vector<std::int64_t> etas = c.has("eta") ? c.integers("eta") : std::vector<std::int64_t>{20};
-    for (std::size_t j = 0; j < etas.size(); ++j) {
-      if (std::find(etas.begin(), etas.begin() + static_cast<std::ptrdiff_t>(j), etas[j]) !=
-          etas.begin() + static_cast<std::ptrdiff_t>(j)) {
-        report(c.where("eta"), fmt::format("eta: {} is listed twice", etas[j]));
-        break;
-      }
-    }
-    if (wave || etas.empty() || !c.has("dt_dem")) return;
-    const double duration = c.real("duration") > 0 ? c.real("duration") : name == "chain6" ? 20.0 : 0.075;
-    const std::int64_t eta_max = *std::max_element(etas.begin(), etas.end());
-    const double dt_fem = static_cast<double>(eta_max) * c.real("dt_dem");
-    if (std::floor(duration / dt_fem + 1e-9) < 1)
-      report(c.given("duration") ? c.where("duration") : c.where("eta"),
-             fmt::format("duration = {:g} s holds no FEM step of eta = {} (eta*dt_dem = {:g} s): lengthen "
-                         "duration or lower eta",
-                         duration, eta_max, dt_fem));
-  }
-
-  void check_between_keys(const Scene& scene) {
-    if (scene.coupled()) return check_coupled(scene);
-    const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
-    const auto materials = unique_names(scene, "material");
-    const auto regions = unique_names(scene, "region");
-    unique_names(scene, "wall");
-    // Every region is also a group of its own name, so boundaries, loads and probes may name
-    // either; a [[group]] must not take a region's name.
-    auto groups = unique_names(scene, "group");
-    for (const Table& g : scene.tables("group")) {
-      if (std::find(regions.begin(), regions.end(), g.str("name")) != regions.end())
-        report(g.where("name"),
-               fmt::format("[[group]] name '{}' is already a [[region]] name (every region is "
-                           "also a group of its own name)",
-                           g.str("name")));
-    }
-    groups.insert(groups.end(), regions.begin(), regions.end());
-    const std::string group_what = "[[group]] or [[region]]";
-
-    for (const Table& m : scene.tables("material"))
-      if (m.given("youngs_modulus") != m.given("poisson_ratio")) {
-        const std::string given = m.given("youngs_modulus") ? "youngs_modulus" : "poisson_ratio";
-        const std::string other = given == "youngs_modulus" ? "poisson_ratio" : "youngs_modulus";
-        report(m.where(given),
-               fmt::format("material '{}' gives {} without {}: the continuum of an FEM region "
-                           "needs both (or neither, for the lattice's own)",
-                           m.str("name"), given, other));
-      }
-    const TableSpec& region_spec = *find_table("region");
-    for (const Table& r : scene.tables("region")) {
-      check_reference(r, "material", "[[material]]", materials);
-      if (r.str("kind") == "particles") need(region_spec, r, "diameter", "kind");
-      const std::string& lattice = r.str("lattice");
-      if (lattice == "hex" && dim == 3)
-        report(r.where("lattice"), "lattice = \"hex\" is for 2D scenes; in 3D use hcp or fcc (or auto)");
-      if ((lattice == "hcp" || lattice == "fcc") && dim == 2)
-        report(r.where("lattice"),
-               fmt::format("lattice = \"{}\" is for 3D scenes; in 2D use hex (or auto)", lattice));
-      const std::string& shape = r.str("shape");
-      if (shape == "box") need(region_spec, r, "size", "shape");
-      if (shape == "disk" || shape == "sphere") {
-        if (shape == "disk" && dim == 3)
-          report(r.where("shape"), "shape = \"disk\" is for 2D scenes; in 3D use \"sphere\"");
-        if (shape == "sphere" && dim == 2)
-          report(r.where("shape"), "shape = \"sphere\" is for 3D scenes; in 2D use \"disk\"");
-        need(region_spec, r, "center", "shape");
-        need(region_spec, r, "radius", "shape");
-      }
-      if (shape == "polygon") {
-        if (dim == 3)
-          report(r.where("shape"),
-                 "shape = \"polygon\" is for 2D scenes; in 3D use a geometry file (shape = \"file\")");
-        need(region_spec, r, "points", "shape");
-        if (r.has("points") && r.real_table("points").size() < 3)
-          report(r.where("points"), fmt::format("points has {} corners; a polygon needs at least 3",
-                                                r.real_table("points").size()));
-      }
-      if (shape == "file") {
-        need(region_spec, r, "file", "shape");
-        if (r.has("file")) {
-          const std::string ext = lower(fs::path(r.str("file")).extension().string());
-          static const std::vector<std::string> known = {".geo", ".msh", ".step", ".stp", ".stl", ".off"};
-          if (std::find(known.begin(), known.end(), ext) == known.end())
-            report(r.where("file"),
-                   fmt::format("file '{}' is not a geometry file strata reads (allowed: .geo, "
-                               ".msh, .step, .stl, .off)",
-                               fs::path(r.str("file")).filename().string()));
-        }
-      }
-    }
-
-    const TableSpec& group_spec = *find_table("group");
-    for (const Table& g : scene.tables("group")) {
-      if (!g.str("region").empty()) check_reference(g, "region", "[[region]]", regions);
-      if (g.str("select") == "box") {
-        need(group_spec, g, "box_min", "select");
-        need(group_spec, g, "box_max", "select");
-        if (g.has("box_min") && g.has("box_max")) {
-          const auto &lo = g.reals("box_min"), &hi = g.reals("box_max");
-          for (std::size_t c = 0; c < lo.size() && c < hi.size(); ++c) {
-            if (!(hi[c] > lo[c])) {
-              report(
-                  g.where("box_max"),
-                  fmt::format("box_max[{0}] = {1} must be greater than box_min[{0}] = {2}", c, hi[c], lo[c]));
-              break;
-            }
-          }
-        }
-      }
-    }
-
-    const TableSpec& boundary_spec = *find_table("boundary");
-    for (const Table& b : scene.tables("boundary")) {
-      check_reference(b, "group", group_what, groups);
-      if (b.str("type") == "velocity") need(boundary_spec, b, "velocity", "type");
-      if (b.str("type") == "step_displacement") need(boundary_spec, b, "increment", "type");
-    }
-
-    for (const Table& l : scene.tables("load")) {
-      check_reference(l, "group", group_what, groups);
-      const auto& times = l.reals("times");
-      for (std::size_t j = 1; j < times.size(); ++j) {
-        if (!(times[j] > times[j - 1])) {
-          report(l.where("times"),
-                 fmt::format("times must increase: times[{}] = {} is not after times[{}] = {}", j, times[j],
-                             j - 1, times[j - 1]));
-          break;
-        }
-      }
-      if (l.real_table("forces").size() != times.size())
-        report(l.where("forces"),
-               fmt::format("forces has {} rows but times has {} entries: give one force per time",
-                           l.real_table("forces").size(), times.size()));
-    }
-
-    for (const Table& w : scene.tables("wall")) {
-      const auto& n = w.reals("normal");
-      if (std::all_of(n.begin(), n.end(), [](double x) { return x == 0.0; }))
-        report(w.where("normal"), "normal must not be zero: give the direction pointing into the particles");
-    }
-
-    const Table& solver = scene.table("solver");
-    if (solver.integer("steps") == 0 && solver.real("duration") == 0.0)
-      report(solver.where(), "the run has no length: set solver.steps or solver.duration (both are 0)");
-
-    const Table& probe = scene.table("probe");
-    const std::string& axis = probe.str("axis");
-    if (axis == "z" && dim == 2)
-      report(probe.where("axis"), "axis = \"z\" is not an axis of a 2D scene (allowed: x, y)");
-    if (probe.boolean("stress_strain")) {
-      check_reference(probe, "top_group", group_what, groups, ", which stress_strain = true needs");
-      check_reference(probe, "bottom_group", group_what, groups, ", which stress_strain = true needs");
-    }
-  }
+  // -- pass 4: checks between keys (checks.cpp) --
 
   const std::string& text_;
   fs::path file_;

@@ -1,5 +1,6 @@
 #include <strata/scene/model.hpp>
 
+#include "build_parts.hpp"
 #include "model_parts.hpp"
 
 #include <strata/core/error.hpp>
@@ -22,27 +23,27 @@ namespace {
 using preprocess::Lattice;
 using preprocess::Shape;
 
-Shape shape_of(const scene::Table& r, int dim) {
+Shape shape_of(const RegionTable& r, int dim) {
   Shape s;
   s.dim = dim;
-  const std::string& kind = r.str("shape");
-  if (kind == "box") {
+  const RegionShape kind = r.shape;
+  if (kind == RegionShape::Box) {
     s.kind = Shape::Kind::Box;
-    s.origin = vec3(r.reals("origin"));
-    s.size = vec3(r.reals("size"));
-  } else if (kind == "disk" || kind == "sphere") {
-    s.kind = kind == "disk" ? Shape::Kind::Disk : Shape::Kind::Sphere;
-    s.center = vec3(r.reals("center"));
-    s.radius = r.real("radius");
-  } else if (kind == "polygon") {
+    s.origin = vec3(r.origin);
+    s.size = vec3(r.size);
+  } else if (kind == RegionShape::Disk || kind == RegionShape::Sphere) {
+    s.kind = kind == RegionShape::Disk ? Shape::Kind::Disk : Shape::Kind::Sphere;
+    s.center = vec3(r.center);
+    s.radius = r.radius;
+  } else if (kind == RegionShape::Polygon) {
     s.kind = Shape::Kind::Polygon;
-    for (const auto& p : r.real_table("points")) s.polygon.push_back({p[0], p[1]});
+    for (const auto& p : r.points.value) s.polygon.push_back({p[0], p[1]});
   }
   return s;  // shape = "file" regions are filled from their geometry (fill_file_region)
 }
 
-preprocess::LatticeKind lattice_of(const scene::Table& r, int dim, std::string& name) {
-  name = r.str("lattice");
+preprocess::LatticeKind lattice_of(const RegionTable& r, int dim, std::string& name) {
+  name = r.lattice;
   if (name == "auto") name = dim == 2 ? "hex" : "hcp";
   return name == "hex"   ? preprocess::LatticeKind::Hex2D
          : name == "hcp" ? preprocess::LatticeKind::HCP
@@ -61,9 +62,9 @@ struct Filled {
 };
 
 /// Fills a shape = "file" region; geometry files are read once per path.
-Filled fill_file_region(const scene::Table& r, int dim, preprocess::LatticeKind kind, double d,
+Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind kind, double d,
                         std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
-  const std::string file = r.str("file");
+  const std::string file = r.file->string();
   auto& geo = cache[file];
   if (!geo) {
     preprocess::GeometryOptions go;
@@ -72,12 +73,12 @@ Filled fill_file_region(const scene::Table& r, int dim, preprocess::LatticeKind 
   }
   Filled f;
   f.geometry = geo;
-  f.region = geo->region(r.str("physical"));
+  f.region = geo->region(r.physical);
   preprocess::FillOptions fo;
   fo.kind = kind;
   fo.d = d;
-  fo.orientation_deg = r.real("orientation");
-  fo.min_boundary_distance = r.real("min_boundary_distance");
+  fo.orientation_deg = r.orientation;
+  fo.min_boundary_distance = r.min_boundary_distance;
   // One lattice origin per geometry (its lower corner + d/2), so neighbouring regions of a
   // file share one lattice and never overlap.
   if (geo->mesh.node_count() > 0) {
@@ -90,10 +91,10 @@ Filled fill_file_region(const scene::Table& r, int dim, preprocess::LatticeKind 
 
 /// A particle region of a coupled model: its sites as the overlap made them (those of
 /// particle_region k, in order), and the geometry region for group selections.
-Filled coupled_region(const Table& r, const preprocess::OverlapModel& ov, int dim,
+Filled coupled_region(const RegionTable& r, const preprocess::OverlapModel& ov, int dim,
                       std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
   const auto& names = ov.particle_region_names;
-  const auto k = std::find(names.begin(), names.end(), r.str("physical")) - names.begin();
+  const auto k = std::find(names.begin(), names.end(), r.physical.value) - names.begin();
   Filled f;
   Lattice& l = f.shape_lattice;
   l.dim = ov.particles.dim;
@@ -107,7 +108,7 @@ Filled coupled_region(const Table& r, const preprocess::OverlapModel& ov, int di
       l.layer.push_back(ov.particles.layer[i]);
     }
   }
-  const std::string file = r.str("file");
+  const std::string file = r.file->string();
   auto& geo = cache[file];
   if (!geo) {
     preprocess::GeometryOptions go;
@@ -115,7 +116,7 @@ Filled coupled_region(const Table& r, const preprocess::OverlapModel& ov, int di
     geo = std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go));
   }
   f.geometry = geo;
-  f.region = geo->region(r.str("physical"));
+  f.region = geo->region(r.physical);
   return f;
 }
 
@@ -130,9 +131,9 @@ void add_overlap_band(const Scene& sc, const preprocess::OverlapModel& ov, Model
   l.radius = ov.particles.radius;
   for (std::size_t i = 0; i < ov.particles.size(); ++i)
     if (ov.particle_region[i] < 0) l.x.push_back(ov.particles.x[i]);
-  const Table* first = nullptr;
-  for (const auto& r : sc.tables("region"))
-    if (r.str("kind") == "particles" && !first) first = &r;
+  const RegionTable* first = nullptr;
+  for (const auto& r : sc.regions)
+    if (r.kind == RegionKind::Particles && !first) first = &r;
   RegionInfo info;
   info.name = "overlap";
   info.lattice = d.regions.front().lattice;
@@ -140,7 +141,7 @@ void add_overlap_band(const Scene& sc, const preprocess::OverlapModel& ov, Model
   info.particles = l.size();
   RegionSites s;
   s.first_id = next_id;
-  s.material = first->str("material");
+  s.material = first->material;
   f.first_id = next_id;
   next_id += std::uint32_t(l.size());
   d.groups.push_back({info.name, info.particles, {}, int(d.regions.size())});
@@ -153,9 +154,9 @@ void add_overlap_band(const Scene& sc, const preprocess::OverlapModel& ov, Model
   std::vector<std::uint32_t> region_first(ov.particle_region_names.size());
   for (std::size_t k = 0; k + 1 < d.regions.size(); ++k) {
     const auto& names = ov.particle_region_names;
-    for (const auto& r : sc.tables("region"))
-      if (r.str("name") == d.regions[k].name) {
-        const auto j = std::size_t(std::find(names.begin(), names.end(), r.str("physical")) - names.begin());
+    for (const auto& r : sc.regions)
+      if (r.name == d.regions[k].name) {
+        const auto j = std::size_t(std::find(names.begin(), names.end(), r.physical.value) - names.begin());
         region_first[j] = d.sites[k].first_id;
       }
   }
@@ -167,32 +168,42 @@ void add_overlap_band(const Scene& sc, const preprocess::OverlapModel& ov, Model
   }
 }
 
-std::vector<std::uint32_t> select(const scene::Table& g, const Filled& f) {
+std::vector<std::uint32_t> select(const GroupTable& g, const Filled& f) {
   const Lattice& l = f.lattice();
-  const std::string& sel = g.str("select");
-  if (sel == "physical" || sel == "hole_rim") {
-    if (!f.geometry)
-      g.fail("select", fmt::format("select = \"{}\" picks from a region read from a geometry file "
-                                   "(shape = \"file\"); name such a region in 'region'",
-                                   sel));
-    const double w = g.real("width") > 0 ? g.real("width") : 2 * l.radius;
-    if (sel == "physical")
-      return preprocess::physical_group_members(*f.geometry, *f.fill, g.str("physical"), w);
-    return preprocess::hole_rim(*f.region, l, int(g.integer("hole")), w);
+  switch (g.select.value) {
+    case GroupSelect::Physical:
+    case GroupSelect::HoleRim: {
+      if (!f.geometry)
+        g.select.fail(
+            fmt::format("select = \"{}\" picks from a region read from a geometry file "
+                        "(shape = \"file\"); name such a region in 'region'",
+                        to_string(g.select)));
+      const double w = g.width > 0 ? g.width : 2 * l.radius;
+      if (g.select == GroupSelect::Physical)
+        return preprocess::physical_group_members(*f.geometry, *f.fill, g.physical, w);
+      return preprocess::hole_rim(*f.region, l, int(g.hole), w);
+    }
+    case GroupSelect::All: {
+      std::vector<std::uint32_t> all(l.size());
+      for (std::size_t i = 0; i < l.size(); ++i) all[i] = std::uint32_t(i);
+      return all;
+    }
+    case GroupSelect::TopRow:
+      return preprocess::top_row(l);
+    case GroupSelect::BottomRow:
+      return preprocess::bottom_row(l);
+    case GroupSelect::TopLayer:
+      return preprocess::top_layer(l);
+    case GroupSelect::BottomLayer:
+      return preprocess::bottom_layer(l);
+    case GroupSelect::LeftColumn:
+      return preprocess::left_column(l);
+    case GroupSelect::RightColumn:
+      return preprocess::right_column(l);
+    case GroupSelect::Box:
+      break;
   }
-  if (sel == "all") {
-    std::vector<std::uint32_t> all(l.size());
-    for (std::size_t i = 0; i < l.size(); ++i) all[i] = std::uint32_t(i);
-    return all;
-  }
-  if (sel == "top_row") return preprocess::top_row(l);
-  if (sel == "bottom_row") return preprocess::bottom_row(l);
-  if (sel == "top_layer") return preprocess::top_layer(l);
-  if (sel == "bottom_layer") return preprocess::bottom_layer(l);
-  if (sel == "left_column") return preprocess::left_column(l);
-  if (sel == "right_column") return preprocess::right_column(l);
-  // box
-  return preprocess::in_box(l, vec3(g.reals("box_min")), vec3(g.reals("box_max")));
+  return preprocess::in_box(l, vec3(g.box_min), vec3(g.box_max));
 }
 
 double platen_distance(const BuiltModel& m);
@@ -204,12 +215,12 @@ void drop_rows(Lattice& l) {
 }
 
 /// FEM mesh of a kind = "fem" region: the geometry file's physical group, or the shape.
-preprocess::SimplexMesh mesh_fem(const scene::Table& r, int dim) {
-  const double size = r.real("mesh_size");
-  if (r.str("shape") == "file") {
+preprocess::SimplexMesh mesh_fem(const RegionTable& r, int dim) {
+  const double size = r.mesh_size;
+  if (r.shape == RegionShape::File) {
     preprocess::FemMeshOptions o;
     o.size = size;
-    return preprocess::mesh_fem_region(r.str("file"), r.str("physical"), dim, o);
+    return preprocess::mesh_fem_region(r.file->string(), r.physical, dim, o);
   }
   return preprocess::mesh_fem_shape(shape_of(r, dim), size);
 }
@@ -239,8 +250,8 @@ std::vector<const Lattice*> ModelDescription::lattices() const {
 ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
                                 const preprocess::OverlapModel* coupled) {
   const auto t0 = std::chrono::steady_clock::now();
-  const scene::Table& st = sc.table("scene");
-  const int dim = int(st.integer("dimension"));
+  const SceneTable& st = sc.scene;
+  const int dim = st.dimension;
   ModelDescription d;
   d.dim = dim;
 
@@ -250,55 +261,57 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
   std::map<std::string, std::size_t> region_index;  // groups visit regions by name
   std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
   std::uint32_t next_id = 0;
-  for (const auto& r : sc.tables("region")) {
-    if (r.str("kind") == "fem") {
+  for (const auto& r : sc.regions) {
+    if (r.kind == RegionKind::Fem) {
       if (!allow_fem)
-        r.fail("kind", fmt::format("region '{}': kind = \"fem\" cannot be run or checked in this version of "
-                                   "strata (allowed here: kind = \"particles\"); 'strata mesh' meshes FEM "
-                                   "regions for inspection, and coupled FEM-DEM runs go through a [coupled] "
-                                   "scene or 'strata report wave'",
-                                   r.str("name")));
+        r.kind.fail(
+            fmt::format("region '{}': kind = \"fem\" cannot be run or checked in this version of "
+                        "strata (allowed here: kind = \"particles\"); 'strata mesh' meshes FEM "
+                        "regions for inspection, and coupled FEM-DEM runs go through a [coupled] "
+                        "scene or 'strata report wave'",
+                        r.name.value));
       // A coupled model's FEM mesh is the overlap's (FEM regions and the overlap ring).
-      if (!coupled) d.fem.push_back(FemRegion{r.str("name"), r.str("material"), mesh_fem(r, dim)});
+      if (!coupled) d.fem.push_back(FemRegion{r.name, r.material, mesh_fem(r, dim)});
       continue;
     }
     RegionInfo info;
-    info.name = r.str("name");
+    info.name = r.name;
     const Shape shape = shape_of(r, dim);
     const auto kind = lattice_of(r, dim, info.lattice);
-    info.diameter = r.real("diameter");
+    info.diameter = r.diameter;
     Filled f;
     if (coupled) {
       // The coupled model's particles of this region, in the order the overlap made them.
       f = coupled_region(r, *coupled, dim, geometries);
       info.measure = f.region->mesh.measure();
-    } else if (r.str("shape") == "file") {
+    } else if (r.shape == RegionShape::File) {
       f = fill_file_region(r, dim, kind, info.diameter, geometries);
       info.measure = f.fill->measure;
     } else {
-      f.shape_lattice = preprocess::fill_shape(shape, kind, info.diameter, r.real("orientation"));
+      f.shape_lattice = preprocess::fill_shape(shape, kind, info.diameter, r.orientation);
       info.measure = shape.measure();
     }
     if (f.lattice().size() == 0)
-      r.fail("diameter", fmt::format("region '{}' holds no particle of diameter {} m: the shape is smaller "
-                                     "than one particle",
-                                     info.name, info.diameter));
+      r.diameter.fail(
+          fmt::format("region '{}' holds no particle of diameter {} m: the shape is smaller "
+                      "than one particle",
+                      info.name, info.diameter));
     f.first_id = next_id;
     next_id += std::uint32_t(f.lattice().size());
     RegionSites s;
     s.first_id = f.first_id;
-    s.material = r.str("material");
+    s.material = r.material;
     // Bonds: the touching pairs of the regular lattice, region by region when any region is
     // eccentric (ECC4D of Zhao et al. 2021: centroids offset, bonds kept, long ones weakened by γ);
     // otherwise all touching pairs of the model (bonds_across_regions).
-    const std::string& ecc_type = r.str("eccentricity");
-    if (ecc_type != "none") {
+    if (r.eccentricity != RegionEccentricity::None) {
       preprocess::EccOptions o;
-      o.type = ecc_type == "cube" ? preprocess::Eccentricity::Cube : preprocess::Eccentricity::Sphere;
-      o.ra = r.real("ra");
-      o.rc = r.real("rc");
-      o.gamma = r.real("gamma");
-      o.seed = std::uint64_t(st.integer("seed")) + d.regions.size();  // one stream per region
+      o.type = r.eccentricity == RegionEccentricity::Cube ? preprocess::Eccentricity::Cube
+                                                          : preprocess::Eccentricity::Sphere;
+      o.ra = r.ra;
+      o.rc = r.rc;
+      o.gamma = r.gamma;
+      o.seed = std::uint64_t(st.seed.value) + d.regions.size();  // one stream per region
       preprocess::EccLattice e = preprocess::make_eccentric(f.lattice(), o);
       s.eccentric = true;
       s.sites = std::move(e.lattice);
@@ -320,11 +333,11 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
   if (coupled) add_overlap_band(sc, *coupled, d, filled, next_id);
 
   std::set<std::string> fem_regions;
-  for (const auto& r : sc.tables("region"))
-    if (r.str("kind") == "fem") fem_regions.insert(r.str("name"));
-  for (const auto& g : sc.tables("group")) {
+  for (const auto& r : sc.regions)
+    if (r.kind == RegionKind::Fem) fem_regions.insert(r.name);
+  for (const auto& g : sc.groups) {
     std::vector<std::uint32_t> ids;
-    const std::string& region = g.str("region");
+    const std::string& region = g.region;
     if (fem_regions.count(region)) continue;  // FEM nodes (fem_model.cpp)
     for (const auto& [name, k] : region_index) {
       if (!region.empty() && name != region) continue;
@@ -333,9 +346,9 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
     }
     // A group over every region may hold FEM nodes only (fem_model.cpp checks it is not empty).
     if (ids.empty() && fem_regions.empty())
-      g.fail("select", fmt::format("group '{}' selects no particle", g.str("name")));
+      g.select.fail(fmt::format("group '{}' selects no particle", g.name.value));
     const std::size_t n = ids.size();
-    d.groups.push_back({g.str("name"), n, std::move(ids), -1});
+    d.groups.push_back({g.name, n, std::move(ids), -1});
   }
 
   // The regular lattices become the model's sites (moved, not copied); eccentric regions
@@ -391,35 +404,35 @@ std::vector<std::uint32_t> surface_particles(const ModelDescription& d) {
 }
 
 dem::Settings dem_settings(const Scene& sc, bool force) {
-  const Table& solver = sc.table("solver");
+  const SolverTable& solver = sc.solver;
   dem::Settings set;
-  set.dt = solver.real("dt");
+  set.dt = solver.dt;
   // dt is checked against the model's dt_crit once it is built, so a refusal points at the scene.
-  set.allow_unstable = force || solver.boolean("allow_unstable");
-  const std::string& damping = solver.str("damping");
-  set.damping = damping == "viscous" ? dem::Settings::Damping::Viscous
-                : damping == "local" ? dem::Settings::Damping::Local
-                                     : dem::Settings::Damping::None;
-  set.viscous_c = solver.real("viscous_c");
-  set.local_alpha = solver.real("local_damping");
-  set.gravity = vec3(solver.reals("gravity"));
-  set.min_particles_per_thread = int(solver.integer("min_particles_per_thread"));
+  set.allow_unstable = force || solver.allow_unstable;
+  set.damping = solver.damping == SolverDamping::Viscous ? dem::Settings::Damping::Viscous
+                : solver.damping == SolverDamping::Local ? dem::Settings::Damping::Local
+                                                         : dem::Settings::Damping::None;
+  set.viscous_c = solver.viscous_c;
+  set.local_alpha = solver.local_damping;
+  set.gravity = vec3(solver.gravity);
+  set.min_particles_per_thread = int(solver.min_particles_per_thread);
   // Contact search only where new contacts can form: between particles whose bonds can
   // break, between regions, or against walls. "on"/"off" override.
   bool breakable = false;
-  for (const auto& t : sc.tables("material"))
-    breakable |= std::isfinite(t.real("tensile_strength")) || std::isfinite(t.real("shear_strength"));
+  for (const auto& t : sc.materials)
+    breakable |= std::isfinite(t.tensile_strength.value) || std::isfinite(t.shear_strength.value);
   // Eccentric lattices: "auto" leaves the search off, since offset centroids can overlap
   // unbonded neighbours at the start (broken bonds still push back and slide).
   bool eccentric = false;
   std::size_t particle_regions = 0;
-  for (const auto& t : sc.tables("region")) {
-    eccentric |= t.str("eccentricity") != "none";
-    particle_regions += t.str("kind") == "particles";
+  for (const auto& t : sc.regions) {
+    eccentric |= t.eccentricity != RegionEccentricity::None;
+    particle_regions += t.kind == RegionKind::Particles;
   }
-  const std::string& cd = solver.str("contact_detection");
-  set.contact_detection = cd == "on" || (cd == "auto" && !eccentric &&
-                                         (breakable || particle_regions > 1 || !sc.tables("wall").empty()));
+  const ContactDetection cd = solver.contact_detection;
+  set.contact_detection =
+      cd == ContactDetection::On || (cd == ContactDetection::Auto && !eccentric &&
+                                     (breakable || particle_regions > 1 || !sc.walls.empty()));
   return set;
 }
 
@@ -427,17 +440,18 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
   const int dim = m.dim;
   std::map<std::string, int> material_id;
   double max_kn = 0;
-  for (const auto& t : sc.tables("material")) {
+  for (const auto& t : sc.materials) {
     dem::Material mat;
-    mat.density = t.real("density");
-    mat.kn = t.real("kn");
-    mat.ks = t.real("ks");
-    mat.friction = t.real("friction");
-    mat.tensile_strength = t.real("tensile_strength");
-    mat.shear_strength = t.real("shear_strength");
-    mat.friction_strengthens_bonds = t.boolean("friction_strengthens_bonds");
+    mat.density = t.density;
+    mat.kn = t.kn;
+    mat.ks = t.ks;
+    mat.friction = t.friction;
+    mat.tensile_strength = t.tensile_strength;
+    mat.shear_strength = t.shear_strength;
+    mat.friction_strengthens_bonds = t.friction_strengthens_bonds;
+    mat.law = t.law;
     max_kn = std::max(max_kn, mat.kn);
-    material_id[t.str("name")] = sim.add_material(mat);
+    material_id[t.name] = sim.add_material(mat);
   }
 
   // The particles, groups and bonds of the filled regions.
@@ -479,60 +493,58 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
     sim.set_bonds(bi, bj, factor);
   }
 
-  for (const auto& b : sc.tables("boundary")) {
-    const std::string& group = b.str("group");
+  for (const auto& b : sc.boundaries) {
+    const std::string& group = b.group;
     if (!m.groups.count(group)) continue;  // FEM nodes only (fem_model.cpp)
-    const std::string& type = b.str("type");
-    const unsigned axes = axes_mask(b.strings("axes"), dim);
-    if (type == "fixed") {
+    const unsigned axes = axes_mask(b.axes, dim);
+    if (b.type == BoundaryType::Fixed) {
       sim.fix(group, axes);
-    } else if (type == "velocity") {
-      sim.prescribe_velocity(group, vec3(b.reals("velocity")), axes);
+    } else if (b.type == BoundaryType::Velocity) {
+      sim.prescribe_velocity(group, vec3(b.velocity), axes);
     } else {
-      auto inc = vec3(b.reals("increment"));
+      auto inc = vec3(b.increment);
       for (int a = 0; a < 3; ++a)
         if (!(axes >> a & 1u)) inc[a] = 0;
-      sim.step_displacement(group, inc, b.integer("every"));
+      sim.step_displacement(group, inc, b.every);
     }
   }
-  for (const auto& l : sc.tables("load")) {
-    if (!m.groups.count(l.str("group"))) continue;  // FEM nodes only (fem_model.cpp)
+  for (const auto& l : sc.loads) {
+    if (!m.groups.count(l.group)) continue;  // FEM nodes only (fem_model.cpp)
     std::vector<std::array<double, 3>> forces;
-    for (const auto& row : l.real_table("forces")) forces.push_back(vec3(row));
-    if (l.str("per") == "group") {
-      const double n = double(m.groups.at(l.str("group")));
+    for (const auto& row : l.forces.value) forces.push_back(vec3(row));
+    if (l.per == LoadPer::Group) {
+      const double n = double(m.groups.at(l.group));
       for (auto& f : forces)
         for (double& c : f) c /= n;
     }
-    sim.force_history(l.str("group"), l.reals("times"), std::move(forces));
+    sim.force_history(l.group, l.times, std::move(forces));
   }
-  for (const auto& w : sc.tables("wall")) {
-    const double k = w.real("stiffness") > 0 ? w.real("stiffness") : max_kn;
-    auto n = vec3(w.reals("normal"));
+  for (const auto& w : sc.walls) {
+    const double k = w.stiffness > 0 ? w.stiffness : max_kn;
+    auto n = vec3(w.normal);
     const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);  // > 0: checked by the loader
     for (double& c : n) c /= len;
-    sim.add_wall(vec3(w.reals("point")), n,
-                 w.has("velocity") ? vec3(w.reals("velocity")) : std::array<double, 3>{}, k);
+    sim.add_wall(vec3(w.point), n, vec3(w.velocity), k);
   }
 }
 
-std::int64_t step_count_of(const Table& solver, double dt, int quantum) {
-  const std::int64_t given = solver.integer("steps");
-  std::int64_t steps = given > 0 ? given : std::int64_t(std::ceil(solver.real("duration") / dt - 1e-9));
+std::int64_t step_count_of(const SolverTable& solver, double dt, int quantum) {
+  const std::int64_t given = solver.steps;
+  std::int64_t steps = given > 0 ? given : std::int64_t(std::ceil(solver.duration / dt - 1e-9));
   return (steps + quantum - 1) / quantum * quantum;  // whole system steps
 }
 
 void setup_platens(const Scene& sc, BuiltModel& m) {
-  const Table& probe = sc.table("probe");
-  if (!probe.boolean("stress_strain")) return;
+  const ProbeTable& probe = sc.probe;
+  if (!probe.stress_strain) return;
   const int dim = m.dim;
   const dem::Simulation& sim = m.sim();
   // Platen probe geometry: platens' outer faces and the loaded width.
   PlatenProbe& p = m.platens;
   p.enabled = true;
-  p.top = probe.str("top_group");
-  p.bottom = probe.str("bottom_group");
-  p.axis = axis_index(probe.str("axis"));
+  p.top = probe.top_group;
+  p.bottom = probe.bottom_group;
+  p.axis = axis_index(probe.axis);
   const auto pos = sim.positions();
   const auto rad = sim.radii();
   std::array<double, 3> lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
@@ -542,17 +554,18 @@ void setup_platens(const Scene& sc, BuiltModel& m) {
   p.area = 1;
   for (int a = 0; a < dim; ++a)
     if (a != p.axis) p.area *= hi[a] - lo[a];
-  if (dim == 2) p.area *= sc.table("scene").real("thickness");
+  if (dim == 2) p.area *= sc.scene.thickness;
   p.radius = rad.empty() ? 0 : rad[0];
   p.length0 = platen_distance(m);
 }
 
 BuiltModel build_model(const Scene& sc, bool force) {
+  require_build_parts(sc);  // `strata check` as `strata run`: a key this build cannot serve, at its line
   const auto t0 = std::chrono::steady_clock::now();
-  const Table& solver = sc.table("solver");
-  const int dim = int(sc.table("scene").integer("dimension"));
+  const SolverTable& solver = sc.solver;
+  const int dim = sc.scene.dimension;
   bool any_fem = false;
-  for (const auto& r : sc.tables("region")) any_fem |= r.str("kind") == "fem";
+  for (const auto& r : sc.regions) any_fem |= r.kind == RegionKind::Fem;
   if (any_fem) {
     BuiltModel m = build_fem_model(sc, force);  // fem_model.cpp: FEM alone or coupled
     if (m.has_particles()) setup_platens(sc, m);
@@ -572,17 +585,17 @@ BuiltModel build_model(const Scene& sc, bool force) {
 
   // Time step: automatic (dt_safety × dt_crit) or checked against dt_crit. The model is
   // initialised with a tiny step, then given the real one.
-  m.dt_automatic = solver.real("dt") == 0;
+  m.dt_automatic = solver.dt == 0.0;
   sim.set_dt(std::numeric_limits<double>::min());
   sim.initialise();
   m.dt_crit = sim.critical_dt();
-  const double dt = m.dt_automatic ? solver.real("dt_safety") * m.dt_crit : solver.real("dt");
+  const double dt = m.dt_automatic ? solver.dt_safety * m.dt_crit : solver.dt;
   if (dt > m.dt_crit && !set.allow_unstable)
-    solver.fail("dt",
-                fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
-                            "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
-                            "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
-                            dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.real("dt_safety")));
+    solver.dt.fail(
+        fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
+                    "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
+                    "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
+                    dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.dt_safety.value));
   sim.set_dt(dt);  // warns when above dt_crit and allowed
   m.dt = sim.dt();
   m.steps = step_count_of(solver, m.dt, 1);

@@ -34,7 +34,7 @@ dem::Settings dem_settings(const Scene& sc, bool force);
 void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& sim, BuiltModel& m);
 
 /// solver.steps, or solver.duration / dt, rounded up to a multiple of `quantum`.
-std::int64_t step_count_of(const Table& solver, double dt, int quantum);
+std::int64_t step_count_of(const SolverTable& solver, double dt, int quantum);
 
 /// A model with FEM regions: FEM alone, or coupled with the particle regions through the
 /// overlap layers (fem_model.cpp).

@@ -15,6 +15,8 @@
 #include <cmath>
 #include <map>
 
+#include "build_parts.hpp"
+
 namespace strata::scene {
 
 namespace fs = std::filesystem;
@@ -34,7 +36,7 @@ json model_counts_json(const Scene& sc, int dim, const std::vector<RegionInfo>& 
   json groups = json::object();
   for (const auto& [name, n] : groups_in) groups[name] = n;
   return {{"scene", sc.file.string()},
-          {"title", sc.table("scene").str("title")},
+          {"title", sc.scene.title.value},
           {"dimension", dim},
           {"regions", regions},
           {"groups", groups}};
@@ -280,6 +282,7 @@ std::vector<fs::path> write_bond_histograms(const BondStats& s, const fs::path& 
 }
 
 json mesh_report(const Scene& sc, const fs::path& output) {
+  require_build_parts(sc, SceneUse::Model);  // a geometry file or FEM region this build cannot mesh
   // The model as a description only (never a dem::Simulation): regions filled, FEM regions
   // meshed, bonds counted on a cell grid by length class (regular regions; never stored).
   const auto t0 = std::chrono::steady_clock::now();

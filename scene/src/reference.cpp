@@ -1,5 +1,6 @@
-// docs/scene-reference.md, generated from the schema table (schema.cpp). The output depends only
-// on schema(), so it is the same on every machine; test_scene checks the committed file.
+// docs/scene-reference.md, generated from the schema (the key declarations of scene/src/tables/,
+// assembled by schema.cpp). The output depends only on schema(), so it is the same on every
+// machine; test_scene checks the committed file.
 #include <fmt/format.h>
 
 #include <strata/scene/scene.hpp>
@@ -74,7 +75,7 @@ std::string reference_markdown() {
   auto out = [&md](std::string_view text) { md += text; };
 
   out("# Scene file reference\n\n");
-  out("<!-- Generated from scene/src/schema.cpp by `strata reference`; do not edit by hand. -->\n\n");
+  out("<!-- Generated from the key declarations in scene/src/tables/ by `strata reference`; do not edit by hand. -->\n\n");
   out("A scene is a [TOML](https://toml.io) file. Quantities are in SI units (m, s, kg, N) as listed in the "
       "unit column. Paths are relative to the scene file. Any key can be changed from the command line with "
       "`--set table.key=value`, e.g. `--set solver.dt=1e-8`; entries of a list of tables are addressed by "

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "build_parts.hpp"
 #include "cadence.hpp"
 #include "checkpoint.hpp"
 #include "run_output.hpp"
@@ -44,21 +45,23 @@ struct Run::Impl {
   fs::path dir;
 
   Impl(const Scene& scene, RunOptions options)
-      : sc(scene), opt(std::move(options)), m(build_model(sc, opt.force)) {
-    const Table& o = sc.table("output");
+      : sc(require_build_parts(scene)), opt(std::move(options)), m(build_model(sc, opt.force)) {
+    const OutputTable& o = sc.output;
     if (!STRATA_WITH_HDF5 && !opt.restart.empty())
       fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (--restart)");
-    if (!STRATA_WITH_HDF5 && o.integer("checkpoint_every") > 0)
+    if (!STRATA_WITH_HDF5 && o.checkpoint_every > 0)
       fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (output.checkpoint_every)");
     fingerprint = scene_fingerprint(sc);
+    m.take_initial_energy();  // the coupled check's start: the built state, also on a restart
     if (!opt.restart.empty()) {
       ckpt = open_checkpoint(opt.restart, fingerprint, sc);
       if (m.has_particles()) m.sim().load_state(*ckpt);
       if (m.has_fem()) m.fem().load_state(*ckpt);
+      m.coupled_last_good = m.step_count();
     }
     selection = RunOutput::selection(m, o);
     model = model_json(m, sc);
-    dir = opt.output.empty() ? fs::path(o.str("directory")) : opt.output;
+    dir = opt.output.empty() ? o.directory.value : opt.output;
   }
 
   RunResult execute(RunObserver& observer);
@@ -73,7 +76,7 @@ RunResult Run::execute(RunObserver& observer) { return impl_->execute(observer);
 
 RunResult Run::Impl::execute(RunObserver& observer) {
   observer.model_ready(model);
-  const Table& o = sc.table("output");
+  const OutputTable& o = sc.output;
   fs::create_directories(dir);
   RunOutput out(dir, sc, m, ckpt.get());
   out.set_selection(std::move(selection));
@@ -175,6 +178,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
   }
   out.finish(m, model, run_seconds, "completed");
   RunResult r = finish_result();
+  r.step_seconds = run_seconds;
   observer.stepped(r);
   out.pictures(sc);
   r.written = out.written();

@@ -30,9 +30,9 @@ class RunOutput {
   /// frames and probe rows later than that step (written before the run stopped) are dropped.
   RunOutput(const fs::path& dir, const Scene& sc, const BuiltModel& m, const StateReader* resume)
       : dir_(dir),
-        out_(sc.table("output")),
-        fields_(out_.strings("fields")),
-        title_(sc.table("scene").str("title")),
+        out_(sc.output),
+        fields_(out_.fields),
+        title_(sc.scene.title),
         particles_on_(m.has_particles()),
         fem_on_(m.has_fem()) {
     const auto mode = resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh;
@@ -47,9 +47,9 @@ class RunOutput {
       cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
                                "broken_tension", "broken_shear", "contacts"});
     if (fem_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
-    for (const auto& g : sc.table("probe").strings("gauges")) {
+    for (const auto& g : sc.probe.gauges.value) {
       if (!m.groups.count(g) && !m.fem_groups.count(g))
-        sc.table("probe").fail("gauges", fmt::format("no [[group]] or [[region]] is called '{}'", g));
+        sc.probe.gauges.fail(fmt::format("no [[group]] or [[region]] is called '{}'", g));
       gauges_.push_back(g);
       for (int a = 0; a < m.dim; ++a) cols.push_back(fmt::format("{}_u{}", g, "xyz"[a]));
     }
@@ -96,33 +96,33 @@ class RunOutput {
   /// How pictures look: the scene's title and [output] render_field, render_contacts,
   /// view_direction, view_up and clip_plane (checked by check_render_keys).
   io::RenderStyle render_style() const {
-    io::RenderStyle style = field_style(out_.str("render_field"));
+    io::RenderStyle style = field_style(out_.render_field);
     style.title = title_;
-    style.show_contacts = out_.boolean("render_contacts");
+    style.show_contacts = out_.render_contacts;
     for (std::size_t a = 0; a < 3; ++a) {
-      style.view_direction[a] = out_.reals("view_direction")[a];
-      style.view_up[a] = out_.reals("view_up")[a];
+      style.view_direction[a] = out_.view_direction.value[a];
+      style.view_up[a] = out_.view_up.value[a];
     }
-    if (out_.has("clip_plane")) {
+    if (out_.clip_plane.given) {
       std::array<double, 6> c{};
-      std::copy_n(out_.reals("clip_plane").begin(), 6, c.begin());
+      std::copy_n(out_.clip_plane->begin(), 6, c.begin());
       style.clip_plane = c;
     }
     return style;
   }
 
   /// Checks what the schema cannot: no zero view or clip normal, up not along the view.
-  static void check_render_keys(const Table& out) {
+  static void check_render_keys(const OutputTable& out) {
     auto norm = [](const double* v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); };
-    const double* d = out.reals("view_direction").data();
-    const double* u = out.reals("view_up").data();
-    if (norm(d) == 0) out.fail("view_direction", "the view direction must not be zero");
-    if (norm(u) == 0) out.fail("view_up", "the up vector must not be zero");
+    const double* d = out.view_direction->data();
+    const double* u = out.view_up->data();
+    if (norm(d) == 0) out.view_direction.fail("the view direction must not be zero");
+    if (norm(u) == 0) out.view_up.fail("the up vector must not be zero");
     const double cross[3] = {d[1] * u[2] - d[2] * u[1], d[2] * u[0] - d[0] * u[2], d[0] * u[1] - d[1] * u[0]};
     if (norm(cross) <= 1e-9 * norm(d) * norm(u))
-      out.fail("view_up", "the up vector must not be parallel to view_direction");
-    if (out.has("clip_plane") && norm(out.reals("clip_plane").data() + 3) == 0)
-      out.fail("clip_plane", "the clip plane's normal (the last three numbers) must not be zero");
+      out.view_up.fail("the up vector must not be parallel to view_direction");
+    if (out.clip_plane.given && norm(out.clip_plane->data() + 3) == 0)
+      out.clip_plane.fail("the clip plane's normal (the last three numbers) must not be zero");
   }
 
   /// Step of the last frame written by this process (-1: none).
@@ -197,7 +197,7 @@ class RunOutput {
 
   void frame(const BuiltModel& m) {
     last_frame_step_ = m.step_count();
-    if (!out_.boolean("vtk")) return;
+    if (!STRATA_WITH_VTK || !out_.vtk) return;  // without VTK only what the scene left at defaults
     std::optional<io::MeshFrame> mesh;
     if (fem_on_) {
       const fem::Solver& f = m.fem();
@@ -212,7 +212,7 @@ class RunOutput {
     particles_->add_particles(sim.time(), pc);
     bonds_->add_lines(sim.time(), all, bonds);
 #if STRATA_WITH_RENDER
-    if (out_.boolean("render") && out_.boolean("render_while_running")) {
+    if (out_.render && out_.render_while_running) {
       io::RenderRequest req;
       req.particles = &pc;
       req.bonds = &bonds;
@@ -230,32 +230,32 @@ class RunOutput {
 
   /// Particles and bonds the frames hold, from [output]; groups by name. Validates, so call
   /// it before anything is written.
-  static FrameSelection selection(BuiltModel& m, const Table& out) {
+  static FrameSelection selection(BuiltModel& m, const OutputTable& out) {
     FrameSelection selection_;
-    const std::string& p = out.str("particles");
+    const std::string& p = out.particles;
     selection_.particles = p == "surface" ? FrameSelection::Particles::Surface
                            : p == "none"  ? FrameSelection::Particles::None
                                           : FrameSelection::Particles::All;
-    const std::string& b = out.str("bonds");
+    const std::string& b = out.bonds;
     selection_.bonds = b == "all"    ? FrameSelection::Bonds::All
                        : b == "none" ? FrameSelection::Bonds::None
                                      : FrameSelection::Bonds::Broken;
-    selection_.contacts = out.boolean("contacts");
+    selection_.contacts = out.contacts;
     check_render_keys(out);
-    for (const auto& g : out.strings("groups")) {
+    for (const auto& g : out.groups.value) {
       if (!m.groups.count(g))
-        out.fail("groups", fmt::format("no [[group]] or [[region]] of particles is called '{}'", g));
+        out.groups.fail(fmt::format("no [[group]] or [[region]] of particles is called '{}'", g));
       selection_.group_mask |= 1u << m.sim().group_bit(g);
     }
-    selection_.slice_thickness = out.real("slice_thickness");
+    selection_.slice_thickness = out.slice_thickness;
     for (std::size_t a = 0; a < 3; ++a) {
-      selection_.slice_point[a] = a < out.reals("slice_point").size() ? out.reals("slice_point")[a] : 0.0;
-      selection_.slice_normal[a] = a < out.reals("slice_normal").size() ? out.reals("slice_normal")[a] : 0.0;
+      selection_.slice_point[a] = a < out.slice_point->size() ? out.slice_point.value[a] : 0.0;
+      selection_.slice_normal[a] = a < out.slice_normal->size() ? out.slice_normal.value[a] : 0.0;
     }
     double len = 0;
     for (double c : selection_.slice_normal) len += c * c;
     if (selection_.slice_thickness > 0 && len == 0)
-      out.fail("slice_normal", "the slice normal must not be zero");
+      out.slice_normal.fail("the slice normal must not be zero");
     for (double& c : selection_.slice_normal) c /= len > 0 ? std::sqrt(len) : 1.0;
     if (selection_.particles == FrameSelection::Particles::Surface && m.has_particles())
       selection_.find_surface(m.sim());
@@ -312,7 +312,7 @@ class RunOutput {
 
   /// Plots and pictures (needs STRATA_WITH_RENDER).
   void pictures(const Scene& sc) {
-    if (!out_.boolean("render")) return;
+    if (!out_.render) return;
 #if STRATA_WITH_RENDER
     const std::string& title = title_;
     if (!stress_.empty()) {
@@ -361,7 +361,7 @@ class RunOutput {
         if (pngs.empty()) return;
       }
       written_.push_back(dir_ / "png" / "");
-      if (out_.boolean("movie") && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
+      if (out_.movie && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
         written_.push_back(dir_ / "movie.mp4");
     }
 #else
@@ -383,7 +383,7 @@ class RunOutput {
 
  private:
   fs::path dir_;
-  const Table& out_;
+  const OutputTable& out_;
   std::vector<std::string> fields_;
   std::vector<std::string> gauges_;
   std::string title_;

@@ -52,6 +52,8 @@ FrameCounts frame_counts(const std::filesystem::path& vtp) {
 
 /// Whether this build draws pictures (STRATA_WITH_RENDER).
 bool have_render() { return STRATA_WITH_RENDER != 0; }
+bool have_vtk() { return STRATA_WITH_VTK != 0; }
+bool have_gmsh() { return STRATA_WITH_GMSH != 0; }
 
 /// Writes `<dir>/fem.pvd` with two frames of tet_box(2) (tests/common: a 2 x 2 x 2 box of
 /// unit cubes, six tetrahedra each, cell array "cx" = centroid x) with a point array

@@ -14,6 +14,10 @@ FrameCounts frame_counts(const std::filesystem::path& vtp);
 
 /// Whether this build draws pictures (STRATA_WITH_RENDER).
 bool have_render();
+/// Whether this build writes VTK frames (STRATA_WITH_VTK).
+bool have_vtk();
+/// Whether this build reads geometry files and meshes FEM regions (STRATA_WITH_GMSH).
+bool have_gmsh();
 /// Writes `<dir>/fem.pvd` with two frames of a small tetrahedral box (point array
 /// "displacement", cell array "cx").
 void write_mesh_series(const std::filesystem::path& dir);

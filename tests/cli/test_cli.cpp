@@ -134,6 +134,7 @@ TEST(Cli, BadOverrideIsValidatedLikeTheFileAndWritesNothing) {
 }
 
 TEST(Cli, RunWritesSeriesProbesAndSummary) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("run");
   const fs::path f = write(d, "ok.toml", small_scene("[output]\nframes = 2\nrender = false\n"));
   const auto r = strata("run " + f.string() + " -o " + (d / "res").string());
@@ -148,6 +149,7 @@ TEST(Cli, RunWritesSeriesProbesAndSummary) {
 // A run that blows up (dt far above the limit, forced) stops with status 1, says so, and
 // keeps the frames written before the blow-up listed in the .pvd.
 TEST(Cli, BlowUpStopsTheRunAndKeepsTheLastGoodFrame) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("blowup");
   std::string text = small_scene("dt = 3e-7\n[output]\nframes = 200\nrender = false\n");
   text.replace(text.find("steps = 400"), 11, "steps = 20000");
@@ -312,6 +314,7 @@ TEST(Cli, RestartWithACheckpointOfAnotherSceneIsRefused) {
 // Issue 5 acceptance: a run killed with SIGKILL mid-way leaves a .pvd that lists only
 // complete frames (every listed file exists and reads back).
 TEST(Cli, KilledRunLeavesAPvdOfCompleteFrames) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("kill");
   const fs::path f = write(d, "scene.toml", endless_scene());
   const pid_t pid = spawn({"run", f.string(), "-o", (d / "res").string()}, d / "log.txt");
@@ -366,6 +369,7 @@ TEST(Cli, InterruptedRunWritesACheckpointAndRestartsExactly) {
 // Issue 5: frames by simulated time (at the nearest step, plus the first and the last) and
 // by events (every N more broken bonds, checked at probe rows).
 TEST(Cli, FramesBySimulatedTimeAndByBrokenBonds) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("cadence");
   const fs::path f = write(d, "scene.toml", breaking_scene("dt = 2e-8\n[output]\nrender = false\n"));
   const auto by_time =
@@ -448,6 +452,7 @@ TEST(Cli, KilledRunContinuesFromItsLastPeriodicCheckpoint) {
 // [output] selections: surface particles only, a group, a slice, all bonds, and the force
 // field; read the frames back and count.
 TEST(Cli, SelectiveOutputWritesOnlyWhatIsAsked) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("select");
   const std::string base = small_scene("[output]\nframes = 1\nrender = false\n");
   const fs::path f = write(d, "sel.toml", base);
@@ -505,6 +510,7 @@ TEST(Cli, RenderViewAndClipOptionsAreValidated) {
 
 // The same settings as [output] keys are validated before a run writes anything.
 TEST(Cli, RenderSceneKeysAreValidated) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("render_keys");
   const fs::path f = write(d, "s.toml", small_scene("[output]\nframes = 1\n"));
   const auto bad_len = strata("run " + f.string() + " -o " + (d / "a").string() +

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_test_util.hpp"
+#include "series_check.hpp"
 
 using namespace cli_test;
 using nlohmann::json;
@@ -45,6 +46,7 @@ json mesh_json(const fs::path& scene, const fs::path& out) {
 // classes from about 1 - Ra to 1 + Ra (offsets of up to Ra·R at each end), and the
 // histograms are written as CSV (and PNG where the build renders).
 TEST(CliEcc, MeshReportsTheSpreadOfBondLengths) {
+  if (!have_vtk()) GTEST_SKIP() << "`strata mesh -o` writes VTK series: needs STRATA_WITH_VTK";
   const fs::path d = temp_dir("ecc_mesh");
   const json j0 = mesh_json(write(d, "ra0.toml", ecc_scene(0.0)), d / "m0");
   ASSERT_TRUE(j0.contains("bond_length_classes"));
@@ -70,6 +72,7 @@ TEST(CliEcc, MeshReportsTheSpreadOfBondLengths) {
 // distances); under platens it loads, and the weakened bonds make it softer than the
 // regular lattice at the same strain.
 TEST(CliEcc, RunStartsUnloadedAndIsSofterThanTheRegularLattice) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("ecc_run");
   {
     const fs::path f = write(d, "rest.toml", ecc_scene(0.9, "[output]\nframes = 1\nrender = false\n"));

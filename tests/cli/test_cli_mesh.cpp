@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli_test_util.hpp"
+#include "series_check.hpp"
 
 using namespace cli_test;
 using nlohmann::json;
@@ -50,7 +51,7 @@ steps = 2
 }
 
 /// Line (1-based) of the first occurrence of `needle` in `text`.
-int line_of(const std::string& text, const std::string& needle) {
+[[maybe_unused]] int line_of(const std::string& text, const std::string& needle) {
   const auto at = text.find(needle);
   return 1 + int(std::count(text.begin(), text.begin() + std::ptrdiff_t(at), '\n'));
 }
@@ -71,6 +72,8 @@ json summary(const fs::path& dir) {
 }  // namespace
 
 TEST(CliMesh, MeshesFemRegionsAndWritesThem) {
+  if (!have_gmsh() || !have_vtk())
+    GTEST_SKIP() << "a .geo scene whose VTK files are checked: needs STRATA_WITH_GMSH and STRATA_WITH_VTK";
   const fs::path d = temp_dir("mesh_fem");
   const fs::path scene = write(d, "mixed.toml", mixed_scene());
   const json j = mesh_json(scene.string() + " -o " + (d / "out").string());
@@ -96,6 +99,8 @@ TEST(CliMesh, MeshesFemRegionsAndWritesThem) {
 }
 
 TEST(CliMesh, RunAndCheckBuildBothPartsOfAMixedScene) {
+  if (!have_gmsh() || !have_vtk())
+    GTEST_SKIP() << "a .geo scene whose VTK files are checked: needs STRATA_WITH_GMSH and STRATA_WITH_VTK";
   // A particle box and an FEM box sharing a face of one geometry file: coupled through the
   // overlap layer, one series with both parts.
   const fs::path d = temp_dir("mesh_fem_run");

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli_test_util.hpp"
+#include "series_check.hpp"
 
 namespace fs = std::filesystem;
 using namespace cli_test;
@@ -34,6 +35,7 @@ void expect_nothing_written(const fs::path& d) {
 }  // namespace
 
 TEST(CliWave, CheckOfTheQuickScenePrintsTheStabilityBlock) {
+  if (!have_gmsh()) GTEST_SKIP() << "the wave's geometry is a .geo file: needs STRATA_WITH_GMSH";
   const fs::path quick = kExample / "quick.toml";
   const auto r = cli_test::strata("check " + quick.string());
   EXPECT_EQ(r.status, 0) << r.output;
@@ -59,6 +61,7 @@ TEST(CliWave, CheckOfTheQuickScenePrintsTheStabilityBlock) {
 // An explicit FEM above its limit (central difference at η = 5, 0.75 x the lattice's limit while
 // the FEM's explicit limit is below 0.6 x) is refused before anything runs, at the key.
 TEST(CliWave, CheckRefusesAnExplicitFemAboveItsLimit) {
+  if (!have_gmsh()) GTEST_SKIP() << "the wave's geometry is a .geo file: needs STRATA_WITH_GMSH";
   const fs::path d = temp_dir("wave_refused");
   std::string text = small_wave();
   text.replace(text.find("modes"), 0, "fem_scheme = \"central-difference\"\n");
@@ -77,6 +80,7 @@ TEST(CliWave, CheckRefusesAnExplicitFemAboveItsLimit) {
 }
 
 TEST(CliWave, InvalidSceneWritesNothing) {
+  if (!have_gmsh()) GTEST_SKIP() << "the wave's geometry is a .geo file: needs STRATA_WITH_GMSH";
   const fs::path d = temp_dir("wave_invalid");
   // A chain-only key in a wave scene.
   std::string text = small_wave();
@@ -116,6 +120,7 @@ TEST(CliWave, MissingGeometryFileNamesThePath) {
 
 // `strata run SCENE` and `strata report wave` share one path: the same files, the same numbers.
 TEST(CliWave, RunWritesTheSameFilesAsTheReport) {
+  if (!have_gmsh()) GTEST_SKIP() << "the wave's geometry is a .geo file: needs STRATA_WITH_GMSH";
   const fs::path d = temp_dir("wave_run");
   const fs::path f = write(d, "wave.toml", small_wave());
   const auto r = cli_test::strata("run " + f.string());

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>
+#include <strata/core/numbers.hpp>
 #include <strata/core/parallel.hpp>
 
 #include <cmath>
@@ -68,4 +69,22 @@ TEST(Parallel, RangesCoverEveryIndexOnce) {
     for (int h : hits) ASSERT_EQ(h, 1);
   }
   par::set_threads(0);
+}
+
+TEST(Parallel, ThreadCountsAboveTheLimitAreRefused) {
+  // OpenMP cannot start 100,000 threads (libgomp aborted); strata refuses before asking
+  const int before = par::threads();
+  EXPECT_THROW(par::set_threads(100000), Error);
+  EXPECT_THROW(par::set_threads(par::kMaxThreads + 1), Error);
+  EXPECT_EQ(par::threads(), before);
+  EXPECT_NO_THROW(par::set_threads(before));
+}
+
+TEST(Numbers, ComparedValuesNeverPrintAlike) {
+  const double crit = 1.434e-07, above = std::nextafter(crit, 1.0);
+  const auto [a, b] = strata::distinct_pair(above, crit);
+  EXPECT_NE(a, b);
+  EXPECT_EQ(strata::distinct_pair(2.0, 3.0), (std::pair<std::string, std::string>{"2", "3"}));
+  EXPECT_EQ(strata::distinct_pair(1.5e-7, 1.5e-7).first, "1.5e-07");
+  EXPECT_EQ(strata::distinct_pair(above / crit, 1.0).second, "1");
 }

@@ -228,3 +228,27 @@ TEST(DemPartition, DemDemChainErrorGrowsWithEta) {
   EXPECT_LT(e3, 0.016);
   EXPECT_GT(e3, e2);
 }
+
+// The work done through driven DOFs is booked apart as exchange work, so that a coupled
+// model can tell the energy passed between its parts from the work of loads and boundaries.
+TEST(DemPartition, WorkThroughDrivenDofsIsExchangeWork) {
+  // driven by the other partition only: all the external work is exchange work
+  DemPartition p(block(4, 6));
+  p.make_external(0);
+  p.prepare();
+  p.set_external(0, 0, 0.05);
+  p.initialise();
+  for (int k = 0; k < 200; ++k) p.step();
+  const dem::Simulation& s = p.simulation();
+  EXPECT_GT(std::abs(s.external_work()), 0.0);
+  EXPECT_EQ(s.exchange_work(), s.external_work());  // the same terms, summed in the same order
+
+  // moved by a boundary condition of its own: no exchange work
+  dem::Simulation b = block(4, 6);
+  b.add_to_group(std::vector<std::uint32_t>{0}, "pushed");
+  b.prescribe_velocity("pushed", {0.05, 0, 0}, 1u);
+  b.initialise();
+  b.run(200);
+  EXPECT_GT(std::abs(b.external_work()), 0.0);
+  EXPECT_EQ(b.exchange_work(), 0.0);
+}

@@ -95,3 +95,83 @@ TEST(Energy, BlowUpIsDetected) {
     EXPECT_LT(sim.last_good_step(), sim.step_count());
   }
 }
+
+namespace {
+/// A bonded 2D block of breakable rock squeezed by its top row (0.05 m/s, bottom fixed), at
+/// dt = factor·dt_crit with viscous damping of `c` (N·s/m). Returns the step at which the
+/// run stopped with a Numerical error, or -1 when it ran `steps` steps.
+std::int64_t squeezed_block_stops_at(double factor, double c, std::int64_t steps) {
+  const auto lat = preprocess::hex2d_rows(16, 16, kC1d);
+  Simulation sim(2, Settings{.dt = 1e-12,
+                             .allow_unstable = true,
+                             .damping = Settings::Damping::Viscous,
+                             .viscous_c = c,
+                             .contact_detection = true});
+  add_lattice(sim, lat, sim.add_material(c1_material(true)));
+  sim.add_to_group(preprocess::top_row(lat), "top");
+  sim.add_to_group(preprocess::bottom_row(lat), "bottom");
+  sim.prescribe_velocity("top", {0, -0.05, 0}, kY);
+  sim.fix("bottom", kY);
+  sim.bond_touching_pairs();
+  sim.initialise();
+  sim.set_dt(factor * sim.critical_dt());
+  try {
+    sim.run(steps);
+  } catch (const Error& e) {
+    EXPECT_EQ(e.kind(), ErrorKind::Numerical);
+    EXPECT_LT(sim.last_good_step(), sim.step_count());
+    return sim.step_count();
+  }
+  return -1;
+}
+}  // namespace
+
+TEST(Energy, BlowUpUnderHeavyDampingIsCaughtWithinAFewSteps) {
+  // At 2·dt_crit the fastest mode grows by |g| ≈ 14 per step (g + 1/g = 2 − (ω·dt)², ω·dt =
+  // 4); with damping strong enough to calm the debris between two full checks, only the
+  // speed test of every step sees it: the run must stop within a few steps, not complete.
+  for (double c : {0.0, 100.0, 1000.0}) {
+    const std::int64_t at = squeezed_block_stops_at(2.0, c, 5000);
+    EXPECT_GT(at, 0) << "viscous_c = " << c << ": the run completed";
+    EXPECT_LE(at, 12) << "viscous_c = " << c;
+  }
+  // the same block at 0.5·dt_crit runs to the end
+  EXPECT_EQ(squeezed_block_stops_at(0.5, 1000.0, 500), -1);
+}
+
+TEST(Energy, SlightlyUnstableStepIsCaught) {
+  // Just above the limit the fastest mode grows slowly (|g| ≈ 1.2 per step at ω·dt = 2.01)
+  // from the platen's start: caught by the speed test or a full check within 100 steps.
+  // (dt_crit keeps a 1 % margin on the Lanczos estimate of λmax, so 1.01·dt_crit is still
+  // stable here; 1.02·dt_crit is not)
+  const std::int64_t at = squeezed_block_stops_at(1.02, 0.0, 20000);
+  EXPECT_GT(at, 0) << "the run completed at 1.02 dt_crit";
+  EXPECT_LE(at, 100);  // measured: step 48
+}
+
+TEST(Energy, StiffWallLimitsTheCriticalStep) {
+  // A penalty wall of stiffness k adds k·n nᵀ to a touching particle's stiffness, so
+  // λmax grows by up to k/m: dt_crit <= 2/√(k/m). Stepping at the lattice's own limit with
+  // such a wall pressed into the block would blow up; at the new limit it runs.
+  const auto lat = preprocess::hex2d_rows(10, 10, kC1d);
+  auto make = [&](double kwall) {
+    auto sim = std::make_unique<Simulation>(2, Settings{.dt = 1e-12, .contact_detection = true});
+    add_lattice(*sim, lat, sim->add_material(c1_material(false)));
+    sim->bond_touching_pairs();
+    if (kwall > 0) {
+      double ymax = -1e9;
+      for (const auto& x : lat.x) ymax = std::max(ymax, x[1]);
+      sim->add_wall({0, ymax + 0.5 * kC1d - 1e-6, 0}, {0, -1, 0}, {0, -0.5, 0}, kwall);
+    }
+    sim->initialise();
+    return sim;
+  };
+  const double kwall = 1e3 * 6.587e10;  // a thousand times the bonds' Kn
+  const double plain = make(0)->critical_dt();
+  auto walled = make(kwall);
+  EXPECT_LE(walled->critical_dt(), 2 / std::sqrt(kwall / c1_mass()) * (1 + 1e-12));
+  EXPECT_LT(walled->critical_dt(), 0.1 * plain);
+  walled->set_dt(0.9 * walled->critical_dt());
+  EXPECT_NO_THROW(walled->run(3000));
+  EXPECT_THROW(walled->set_dt(0.9 * plain), Error);  // refused: above the limit the wall sets
+}

@@ -2,6 +2,7 @@
 // wrote: the series, pictures, and for the uniaxial compression example the physics.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <strata/config.hpp>
 #include <strata/io/csv.hpp>
 
 #include <cmath>
@@ -56,6 +57,9 @@ const fs::path kOut = fs::path(STRATA_BINARY_DIR) / "examples-out";
 //    1.0e-3 affine): between 5e-4 and 1.1e-3;
 //  - the peak comes after the first tensile break and the stress then drops by more than half.
 TEST(Examples, UniaxialCompressionQuick) {
+  if (!STRATA_WITH_VTK || !STRATA_WITH_RENDER)
+    GTEST_SKIP() << "the scene asks for frames and the test checks its pictures: needs STRATA_WITH_VTK and "
+                    "STRATA_WITH_RENDER";
   const fs::path out = kOut / "01_uniaxial_compression";
   fs::remove_all(out);
   std::string log;
@@ -141,6 +145,8 @@ TEST(Examples, MetamaterialChainQuick) {
 //    copied velocity for a whole system step);
 //  - the series and its pictures' folder exist (3 frames of each side).
 TEST(Examples, CoupledWaveQuick) {
+  if (!STRATA_WITH_GMSH || !STRATA_WITH_VTK)
+    GTEST_SKIP() << "the wave is a .geo file with a VTK series: needs STRATA_WITH_GMSH and STRATA_WITH_VTK";
   const fs::path out = kOut / "04_coupled_wave";
   fs::remove_all(out);
   std::string log;
@@ -170,6 +176,9 @@ TEST(Examples, CoupledWaveQuick) {
 
 // Every other example's quick scene runs to completion and writes its series.
 TEST(Examples, EveryQuickSceneRuns) {
+  if (!STRATA_WITH_GMSH || !STRATA_WITH_VTK)
+    GTEST_SKIP() << "the further examples are .geo files and ask for frames: needs STRATA_WITH_GMSH and "
+                    "STRATA_WITH_VTK";
   int n = 0;
   for (const auto& dir : fs::directory_iterator(kExamples)) {
     const fs::path quick = dir.path() / "quick.toml";

@@ -142,6 +142,32 @@ TEST_F(IoTest, RenderFrame2DShowsColouredParticlesAndCracks) {
   EXPECT_GT(count(img, [](int r, int g, int b) { return b > 200 && r < 70 && g > 80 && g < 130; }), 50u);
 }
 
+TEST_F(IoTest, Pictures2DFromMicrometresToHundredsOfKilometres) {
+  // The same 30 x 30 patch of disks at radius 0.1 µm (a 6 µm model) up to 5 km (a 300 km
+  // model, placed at map coordinates of 500 km east, 4,000 km north): the camera's depth
+  // range must follow the model, or the picture is blank.
+  for (const auto& [r, x0, y0] :
+       {std::array<double, 3>{1e-7, 0, 0}, {0.5e-3, 0, 0}, {50, 0, 0}, {5e3, 5e5, 4e6}}) {
+    auto p = hex_patch(30, 30, r);
+    for (std::size_t i = 0; i < p.cloud.xyz.size(); i += 3) {
+      p.cloud.xyz[i] += x0;
+      p.cloud.xyz[i + 1] += y0;
+    }
+    RenderRequest rq;
+    rq.particles = &p.cloud;
+    rq.png = dir_ / "scale.png";
+    rq.style.width = 400;
+    rq.style.height = 300;
+    rq.style.field = "displacement";
+    render_frame(rq);
+    const Image img = read_png(rq.png);
+    // the disks cover about half the model area (~60 % of the window), in colour
+    const auto drawn = count(img, [](int r8, int g8, int b8) { return !(r8 > 240 && g8 > 240 && b8 > 240); });
+    EXPECT_GT(drawn, img.pixels.size() / 4) << "radius " << r << " m: the picture is (nearly) blank";
+    EXPECT_GT(distinct_colours(img), 30u) << "radius " << r << " m";
+  }
+}
+
 TEST_F(IoTest, RenderFrame3DWithClipPlane) {
   const PointCloud c = sphere_cube();
   RenderRequest rq = stress_picture(c, dir_ / "cube.png");

@@ -2,6 +2,7 @@
 // (undercoordinated_sites) against the listed pairs of touching_pairs, on lattices filled
 // from geometry files. Counts are integers: they must agree exactly.
 #include <gtest/gtest.h>
+#include <strata/config.hpp>
 
 #include <strata/core/parallel.hpp>
 #include <strata/preprocess/ecc.hpp>
@@ -45,12 +46,14 @@ void expect_count_equals_list(const Lattice& l) {
 }  // namespace
 
 TEST(BondCount, EqualsTheListedPairsIn2D) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("plate_two_holes.geo"), {2});
   for (double angle : {0.0, 17.0})
     expect_count_equals_list(fill(g, "rock", LatticeKind::Hex2D, 1e-3, angle).lattice);
 }
 
 TEST(BondCount, EqualsTheListedPairsIn3D) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("cube.geo"), {3});
   for (auto kind : {LatticeKind::HCP, LatticeKind::FCC})
     for (double angle : {0.0, 23.0}) expect_count_equals_list(fill(g, "block", kind, 0.025, angle).lattice);
@@ -59,6 +62,7 @@ TEST(BondCount, EqualsTheListedPairsIn3D) {
 // Two regions of one file on one lattice, taken together: the count and the list over both
 // include the pairs across their shared face, and equal those of the concatenated lattice.
 TEST(BondCount, SeveralLatticesCountAsOneSet) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("two_blocks_3d.geo"), {3});
   const double d = 0.004;
   const Lattice a = fill(g, "fem", LatticeKind::HCP, d).lattice;
@@ -78,6 +82,7 @@ TEST(BondCount, SeveralLatticesCountAsOneSet) {
 
 // Surface sites: fewer than 12 touching neighbours, as counted from the listed pairs.
 TEST(BondCount, UndercoordinatedSitesAreTheSurface) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("cube.geo"), {3});
   const Lattice l = fill(g, "block", LatticeKind::HCP, 0.04).lattice;
   const BondList b = touching_pairs(l);

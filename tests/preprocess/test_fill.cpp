@@ -2,6 +2,7 @@
 // tests (each site in exactly one element), whole-particle filters, selections and
 // thread-independence.
 #include <gtest/gtest.h>
+#include <strata/config.hpp>
 
 #include <strata/core/error.hpp>
 #include <strata/core/parallel.hpp>
@@ -41,6 +42,7 @@ void expect_count_matches_measure(const RegionFill& f, double cell, double tol =
 }  // namespace
 
 TEST(Fill, PlateWithHolesCountMatchesArea) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("plate_two_holes.geo"), {2});
   const GeometryRegion r = g.region("rock");
   const double d = 1e-3;
@@ -58,6 +60,7 @@ TEST(Fill, PlateWithHolesCountMatchesArea) {
 }
 
 TEST(Fill, WholeParticlesStayInside) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("plate_two_holes.geo"), {2});
   const GeometryRegion r = g.region("rock");
   const double d = 1e-3, rad = d / 2;
@@ -73,6 +76,7 @@ TEST(Fill, WholeParticlesStayInside) {
 }
 
 TEST(Fill, SameSitesAsTheBoxLatticesForRectangles) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads .geo files: needs STRATA_WITH_GMSH";
   // A rectangle and a slab from files, filled with whole particles from the corner + d/2,
   // hold exactly the sites of lattice.hpp's box lattices.
   const double d = 2e-3;
@@ -94,6 +98,7 @@ TEST(Fill, SameSitesAsTheBoxLatticesForRectangles) {
 }
 
 TEST(Fill, CubeCountsMatchVolumeForHcpAndFcc) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("cube.geo"), {3});
   const GeometryRegion r = g.region("block");
   const double d = 0.025;
@@ -112,6 +117,7 @@ TEST(Fill, CubeCountsMatchVolumeForHcpAndFcc) {
 }
 
 TEST(Fill, ClosedStlSurfaces) {
+  if (!STRATA_WITH_CGAL) GTEST_SKIP() << "reads closed STL surfaces: needs STRATA_WITH_CGAL";
   const auto box = test::scratch("fill_box.stl");
   test::write_stl(box, test::box_triangles({0, 0, 0}, {1, 0.5, 0.4}));
   const auto ball = test::scratch("fill_ball.stl");
@@ -224,6 +230,7 @@ TEST(MeshFill, EverySiteInExactlyOneElement3D) {
 }
 
 TEST(MeshFill, SameResultForAnyNumberOfThreads) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("cube.geo"), {3});
   const GeometryRegion r = g.region("block");
   FillOptions o;
@@ -243,6 +250,7 @@ TEST(MeshFill, SameResultForAnyNumberOfThreads) {
 }
 
 TEST(Selections, HoleRimsAndPhysicalGroups) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("plate_two_holes.geo"), {2});
   const GeometryRegion r = g.region("rock");
   const double d = 1e-3;

@@ -1,6 +1,7 @@
 // Geometry files: gmsh (.geo) and closed surfaces (.stl), their regions, boundaries and
 // the errors a user sees for files that cannot be used.
 #include <gtest/gtest.h>
+#include <strata/config.hpp>
 
 #include <strata/core/error.hpp>
 #include <strata/preprocess/geometry.hpp>
@@ -30,6 +31,7 @@ void expect_error(F&& f, ErrorKind kind, std::vector<std::string> parts) {
 }  // namespace
 
 TEST(Geometry, PlateWithTwoHolesFromGeo) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads a .geo file: needs STRATA_WITH_GMSH";
   const Geometry g = read_geometry(data("plate_two_holes.geo"), {2, 0, 0, 36});
   EXPECT_EQ(g.dim, 2);
   EXPECT_EQ(g.region_names(), std::vector<std::string>{"rock"});
@@ -52,6 +54,7 @@ TEST(Geometry, PlateWithTwoHolesFromGeo) {
 }
 
 TEST(Geometry, TutorialStyleFiles2DAnd3D) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "reads .geo files: needs STRATA_WITH_GMSH";
   const Geometry t1 = read_geometry(data("t1_rectangle.geo"));
   EXPECT_EQ(t1.dim, 2);
   EXPECT_NEAR(t1.region("My surface").measure(), 0.03, 1e-12);
@@ -67,6 +70,7 @@ TEST(Geometry, TutorialStyleFiles2DAnd3D) {
 }
 
 TEST(Geometry, ClosedStlSurface) {
+  if (!STRATA_WITH_CGAL) GTEST_SKIP() << "reads a closed STL surface: needs STRATA_WITH_CGAL";
   const auto stl = test::scratch("box.stl");
   test::write_stl(stl, test::box_triangles({0, 0, 0}, {2, 1, 0.5}));
   const Geometry g = read_geometry(stl, {3});
@@ -79,6 +83,8 @@ TEST(Geometry, ClosedStlSurface) {
 }
 
 TEST(Geometry, ErrorsNameTheFileAndWhatIsAllowed) {
+  if (!STRATA_WITH_GMSH || !STRATA_WITH_CGAL)
+    GTEST_SKIP() << "reads .geo and .stl files: needs STRATA_WITH_GMSH and STRATA_WITH_CGAL";
   expect_error([] { read_geometry(data("nowhere.geo")); }, ErrorKind::Input,
                {"nowhere.geo", "does not exist"});
   expect_error([] { read_geometry(data("CMakeLists.txt")); }, ErrorKind::Input, {"does not exist"});
@@ -110,6 +116,7 @@ TEST(Geometry, ErrorsNameTheFileAndWhatIsAllowed) {
 }
 
 TEST(FemMesh, TrianglesAndTetrahedraWithSizeControl) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "meshes with gmsh: needs STRATA_WITH_GMSH";
   const SimplexMesh coarse = mesh_fem_region(data("plate_two_holes.geo"), "rock", 2, {0.01});
   const SimplexMesh fine = mesh_fem_region(data("plate_two_holes.geo"), "rock", 2, {0.004});
   EXPECT_EQ(coarse.dim, 2);

@@ -239,11 +239,12 @@ void check_overlap(const sp::OverlapModel& m, const std::vector<sp::Shape>& fem_
                 m.pair_particle.size(), overlap_bonds);
 }
 
-void check_overlap(const sp::OverlapModel& m, const sp::Shape& fem_box, const sp::Shape& union_box) {
+[[maybe_unused]] void check_overlap(const sp::OverlapModel& m, const sp::Shape& fem_box,
+                                    const sp::Shape& union_box) {
   check_overlap(m, std::vector<sp::Shape>{fem_box}, union_box);
 }
 
-sp::Shape union_of(const sp::Shape& a, const sp::Shape& b) {
+[[maybe_unused]] sp::Shape union_of(const sp::Shape& a, const sp::Shape& b) {
   sp::Vec3 lo, hi;
   for (int k = 0; k < 3; ++k) {
     lo[k] = std::min(a.origin[k], b.origin[k]);

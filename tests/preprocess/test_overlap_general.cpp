@@ -34,14 +34,14 @@ double dist(const Vec3& a, const Vec3& b) { return std::hypot(a[0] - b[0], a[1] 
 /// Signed distance to a region's boundary, negative inside.
 using Sdf = std::function<double(const Vec3&)>;
 
-Sdf disk(double cx, double cy, double R) {
+[[maybe_unused]] Sdf disk(double cx, double cy, double R) {
   return [=](const Vec3& p) { return std::hypot(p[0] - cx, p[1] - cy) - R; };
 }
-Sdf ball(Vec3 c, double R) {
+[[maybe_unused]] Sdf ball(Vec3 c, double R) {
   return [=](const Vec3& p) { return dist(p, c) - R; };
 }
 /// Convex polygon (counter-clockwise), exact for points near its sides.
-Sdf convex_polygon(std::vector<std::array<double, 2>> v) {
+[[maybe_unused]] Sdf convex_polygon(std::vector<std::array<double, 2>> v) {
   return [v](const Vec3& p) {
     double out = -HUGE_VAL;
     for (std::size_t k = 0; k < v.size(); ++k) {
@@ -400,15 +400,16 @@ void check_model(const sp::OverlapModel& m, const std::vector<std::string>& part
         st.ring, st.copies_to_dem, st.copies_to_fem, st.max_fit_sources, gamma_size / d);
 }
 
-Stats check_model(const sp::OverlapModel& m, const std::vector<std::string>& particle_regions,
-                  const std::vector<std::string>& fem_regions, const Expect& ex, double d) {
+[[maybe_unused]] Stats check_model(const sp::OverlapModel& m,
+                                   const std::vector<std::string>& particle_regions,
+                                   const std::vector<std::string>& fem_regions, const Expect& ex, double d) {
   Stats st;
   check_model(m, particle_regions, fem_regions, ex, d, st);
   return st;
 }
 
-sp::OverlapModel timed(const std::string& name, const std::vector<std::string>& p,
-                       const std::vector<std::string>& f, const sp::OverlapOptions& o) {
+[[maybe_unused]] sp::OverlapModel timed(const std::string& name, const std::vector<std::string>& p,
+                                        const std::vector<std::string>& f, const sp::OverlapOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   sp::OverlapModel m = sp::build_coupled_model(strata::test::data(name), p, f, o);
   if (verbose())

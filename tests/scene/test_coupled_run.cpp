@@ -46,6 +46,9 @@ strata::scene::RunResult run_tunnel(const fs::path& dir, std::vector<std::string
 }  // namespace
 
 TEST(CoupledRun, TunnelSceneWritesParticlesAndFemIntoOneSeries) {
+  if (!STRATA_WITH_GMSH || !STRATA_WITH_VTK)
+    GTEST_SKIP() << "the tunnel is a .geo file and the test reads its frames: needs STRATA_WITH_GMSH and "
+                    "STRATA_WITH_VTK";
   const fs::path dir = fresh_dir("series");
   const auto r = run_tunnel(dir, {"solver.steps=400", "output.frames=2"});
   EXPECT_EQ(r.status, RunStatus::Completed);
@@ -69,6 +72,7 @@ TEST(CoupledRun, TunnelSceneWritesParticlesAndFemIntoOneSeries) {
 }
 
 TEST(CoupledRun, SerialAndParallelCouplingGiveTheSameBits) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "the tunnel is a .geo file: needs STRATA_WITH_GMSH";
   strata::par::set_threads(1);
   const fs::path a = fresh_dir("serial"), b = fresh_dir("parallel");
   run_tunnel(a, {"solver.steps=200", "output.frames=0", "solver.coupling=\"serial\""});
@@ -89,6 +93,7 @@ TEST(CoupledRun, RestartFromACheckpointContinuesBitForBit) {
 }
 
 TEST(CoupledRun, FemOnlySceneMovesItsLoadedSideAtTheGivenVelocity) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "its FEM region is meshed by gmsh: needs STRATA_WITH_GMSH";
   // The far field alone (the tunnel's FEM region, the hole now an empty disk of radius Rp):
   // the top nodes move at the prescribed velocity, everything stays finite.
   const fs::path dir = fresh_dir("fem_only");

@@ -180,105 +180,130 @@ stress_strain = true
   EXPECT_EQ(s.file, file);
   EXPECT_EQ(s.dir, file.parent_path().lexically_normal());
 
-  const auto& scene = s.table("scene");
-  EXPECT_EQ(scene.str("title"), "Uniaxial compression");
-  EXPECT_EQ(scene.integer("dimension"), 2);
-  EXPECT_EQ(scene.real("thickness"), 1.0);  // default
-  EXPECT_FALSE(scene.given("thickness"));
-  EXPECT_EQ(scene.integer("seed"), 1);
+  const auto& scene = s.scene;
+  EXPECT_EQ(scene.title.value, "Uniaxial compression");
+  EXPECT_EQ(scene.dimension.value, 2);
+  EXPECT_EQ(scene.thickness.value, 1.0);  // default
+  EXPECT_FALSE(scene.thickness.given);
+  EXPECT_EQ(scene.seed.value, 1);
 
-  ASSERT_EQ(s.tables("material").size(), 2u);
-  const auto& rock = s.tables("material")[0];
-  EXPECT_EQ(rock.label(), "material[0]");
-  EXPECT_EQ(rock.str("law"), "solid_lattice");
-  EXPECT_EQ(rock.real("density"), 2650.0);
-  EXPECT_EQ(rock.real("kn"), 6.587e10);
-  EXPECT_EQ(rock.real("friction"), 0.239);
-  EXPECT_EQ(rock.real("tensile_strength"), 1.252e4);
-  EXPECT_TRUE(rock.boolean("friction_strengthens_bonds"));
-  const auto& soft = s.tables("material")[1];
-  EXPECT_EQ(soft.real("ks"), 0.0);  // an integer where a real is expected
-  EXPECT_EQ(soft.real("tensile_strength"), std::numeric_limits<double>::infinity());  // default: never breaks
-  EXPECT_EQ(soft.real("friction"), 0.0);
+  ASSERT_EQ(s.materials.size(), 2u);
+  const auto& rock = s.materials[0];
+  EXPECT_EQ(rock.pos.str(), file.string() + ":5:1");  // the table header
+  EXPECT_EQ(rock.law.value, "solid_lattice");
+  EXPECT_EQ(rock.density.value, 2650.0);
+  EXPECT_EQ(rock.kn.value, 6.587e10);
+  EXPECT_EQ(rock.friction.value, 0.239);
+  EXPECT_EQ(rock.tensile_strength.value, 1.252e4);
+  EXPECT_TRUE(rock.friction_strengthens_bonds.value);
+  const auto& soft = s.materials[1];
+  EXPECT_EQ(soft.ks.value, 0.0);  // an integer where a real is expected
+  EXPECT_EQ(soft.tensile_strength.value, std::numeric_limits<double>::infinity());  // default: never breaks
+  EXPECT_EQ(soft.friction.value, 0.0);
 
-  ASSERT_EQ(s.tables("region").size(), 2u);
-  const auto& specimen = s.tables("region")[0];
-  EXPECT_EQ(specimen.str("kind"), "particles");
-  EXPECT_EQ(specimen.str("lattice"), "auto");
-  EXPECT_EQ(specimen.str("shape"), "box");
-  EXPECT_EQ(specimen.reals("size"), (std::vector<double>{0.030, 0.0304}));
-  EXPECT_EQ(specimen.reals("origin"), (std::vector<double>{0.0, 0.0}));  // 3D default cut to 2D
-  EXPECT_FALSE(specimen.given("origin"));
-  EXPECT_EQ(specimen.where("origin").str(), file.string() + ":20:1");  // defaulted: the table header
-  EXPECT_EQ(specimen.where("size").str(), file.string() + ":24:8");
-  EXPECT_FALSE(specimen.has("radius"));
-  EXPECT_EQ(specimen.real("orientation"), 0.0);
-  const auto& far = s.tables("region")[1];
-  EXPECT_EQ(far.path("file"), dir.path() / "geom" / "specimen.geo");  // relative to the scene file
-  EXPECT_FALSE(far.has("diameter"));                                  // not needed by kind = "fem"
-  EXPECT_EQ(far.real("mesh_size"), 0.0);
+  ASSERT_EQ(s.regions.size(), 2u);
+  const auto& specimen = s.regions[0];
+  EXPECT_EQ(to_string(specimen.kind), "particles");
+  EXPECT_EQ(specimen.lattice.value, "auto");
+  EXPECT_EQ(to_string(specimen.shape), "box");
+  EXPECT_EQ(specimen.size.value, (std::vector<double>{0.030, 0.0304}));
+  EXPECT_EQ(specimen.origin.value, (std::vector<double>{0.0, 0.0}));  // 3D default cut to 2D
+  EXPECT_FALSE(specimen.origin.given);
+  EXPECT_EQ(specimen.origin.pos.str(), file.string() + ":20:1");  // defaulted: the table header
+  EXPECT_EQ(specimen.size.pos.str(), file.string() + ":24:8");
+  EXPECT_FALSE(specimen.radius.given);
+  EXPECT_EQ(specimen.orientation.value, 0.0);
+  const auto& far = s.regions[1];
+  EXPECT_EQ(far.file.value, dir.path() / "geom" / "specimen.geo");  // relative to the scene file
+  EXPECT_FALSE(far.diameter.given);                                 // not needed by kind = "fem"
+  EXPECT_EQ(far.mesh_size.value, 0.0);
 
-  const auto& top = s.tables("group")[0];
-  EXPECT_EQ(top.str("region"), "specimen");
-  EXPECT_EQ(s.tables("group")[1].str("region"), "");  // all regions
+  const auto& top = s.groups[0];
+  EXPECT_EQ(top.region.value, "specimen");
+  EXPECT_EQ(s.groups[1].region.value, "");  // all regions
 
-  const auto& platen = s.tables("boundary")[0];
-  EXPECT_EQ(platen.strings("axes"), (std::vector<std::string>{"y"}));
-  EXPECT_EQ(platen.reals("increment"), (std::vector<double>{0.0, -1.9e-9}));
-  EXPECT_EQ(platen.integer("every"), 400);
+  const auto& platen = s.boundaries[0];
+  EXPECT_EQ(platen.axes.value, (std::vector<std::string>{"y"}));
+  EXPECT_EQ(platen.increment.value, (std::vector<double>{0.0, -1.9e-9}));
+  EXPECT_EQ(platen.every.value, 400);
 
-  const auto& pulse = s.tables("load")[0];
-  EXPECT_EQ(pulse.str("type"), "force_history");
-  EXPECT_EQ(pulse.reals("times"), (std::vector<double>{0.0, 1e-5, 2.5e-5}));
-  EXPECT_EQ(pulse.real_table("forces")[1], (std::vector<double>{0.0, -1.07e5}));
-  EXPECT_EQ(pulse.str("per"), "group");
+  const auto& pulse = s.loads[0];
+  EXPECT_EQ(pulse.type.value, "force_history");
+  EXPECT_EQ(pulse.times.value, (std::vector<double>{0.0, 1e-5, 2.5e-5}));
+  EXPECT_EQ(pulse.forces.value[1], (std::vector<double>{0.0, -1.07e5}));
+  EXPECT_EQ(to_string(pulse.per), "group");
 
-  ASSERT_EQ(s.tables("wall").size(), 1u);
-  EXPECT_EQ(s.tables("wall")[0].reals("velocity"), (std::vector<double>{0.0, 0.0}));
-  EXPECT_EQ(s.tables("wall")[0].real("stiffness"), 0.0);
+  ASSERT_EQ(s.walls.size(), 1u);
+  EXPECT_EQ(s.walls[0].velocity.value, (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(s.walls[0].stiffness.value, 0.0);
 
-  const auto& solver = s.table("solver");
-  EXPECT_EQ(solver.real("dt"), 2e-8);
-  EXPECT_EQ(solver.integer("steps"), 32000000);  // 3.2e7: a real with no fraction is a fine count
-  EXPECT_EQ(solver.real("dt_safety"), 0.2);
-  EXPECT_EQ(solver.str("damping"), "viscous");
-  EXPECT_EQ(solver.real("local_damping"), 0.7);
-  EXPECT_EQ(solver.reals("gravity"), (std::vector<double>{0.0, 0.0}));
-  EXPECT_EQ(solver.str("contact_detection"), "auto");
-  EXPECT_FALSE(solver.boolean("allow_unstable"));
-  EXPECT_EQ(solver.integer("threads"), 0);
+  const auto& solver = s.solver;
+  EXPECT_EQ(solver.dt.value, 2e-8);
+  EXPECT_EQ(solver.steps.value, 32000000);  // 3.2e7: a real with no fraction is a fine count
+  EXPECT_EQ(solver.dt_safety.value, 0.2);
+  EXPECT_EQ(to_string(solver.damping), "viscous");
+  EXPECT_EQ(solver.local_damping.value, 0.7);
+  EXPECT_EQ(solver.gravity.value, (std::vector<double>{0.0, 0.0}));
+  EXPECT_EQ(to_string(solver.contact_detection), "auto");
+  EXPECT_FALSE(solver.allow_unstable.value);
+  EXPECT_EQ(solver.threads.value, 0);
 
-  const auto& output = s.table("output");
-  EXPECT_EQ(output.path("directory"), dir.path() / "results");
-  EXPECT_EQ(output.integer("frames"), 20);
-  EXPECT_EQ(output.strings("fields"), (std::vector<std::string>{"displacement", "damage"}));
-  EXPECT_EQ(output.str("render_field"), "damage");
-  EXPECT_TRUE(output.boolean("movie"));
+  const auto& output = s.output;
+  EXPECT_EQ(output.directory.value, dir.path() / "results");
+  EXPECT_EQ(output.frames.value, 20);
+  EXPECT_EQ(output.fields.value, (std::vector<std::string>{"displacement", "damage"}));
+  EXPECT_EQ(output.render_field.value, "damage");
+  EXPECT_TRUE(output.movie.value);
 
-  const auto& probe = s.table("probe");
-  EXPECT_TRUE(probe.boolean("stress_strain"));
-  EXPECT_EQ(probe.str("top_group"), "top");
-  EXPECT_EQ(probe.str("axis"), "y");
+  const auto& probe = s.probe;
+  EXPECT_TRUE(probe.stress_strain.value);
+  EXPECT_EQ(probe.top_group.value, "top");
+  EXPECT_EQ(probe.axis.value, "y");
 }
 
 TEST(SceneLoad, AbsentPlainTablesHoldTheirDefaults) {
   const Scene s = strata::scene::parse(kBase, "scene.toml");
-  const auto& output = s.table("output");
-  EXPECT_FALSE(output.given("directory"));
-  EXPECT_EQ(output.path("directory"), (fs::current_path() / "out").lexically_normal());
-  EXPECT_EQ(output.strings("fields"), (std::vector<std::string>{"id", "radius", "displacement", "velocity",
-                                                                "force", "group", "damage"}));
-  EXPECT_EQ(output.where().str(), "scene.toml:1:1");
-  EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"x", "y"}));
-  EXPECT_FALSE(s.table("probe").boolean("stress_strain"));
+  const auto& output = s.output;
+  EXPECT_FALSE(output.directory.given);
+  EXPECT_EQ(output.directory.value, (fs::current_path() / "out").lexically_normal());
+  EXPECT_EQ(output.fields.value, (std::vector<std::string>{"id", "radius", "displacement", "velocity",
+                                                           "force", "group", "damage"}));
+  EXPECT_EQ(output.pos.str(), "scene.toml:1:1");
+  EXPECT_EQ(s.boundaries[0].axes.value, (std::vector<std::string>{"x", "y"}));
+  EXPECT_FALSE(s.probe.stress_strain.value);
+}
+
+TEST(SceneLoad, ChoicesAreEnumsAndValuesFailAtTheirPositions) {
+  namespace sc = strata::scene;
+  const Scene s = sc::parse(kBase, "scene.toml", {"solver.damping=local"});
+  EXPECT_EQ(s.solver.damping, sc::SolverDamping::Local);
+  EXPECT_EQ(s.regions[0].kind, sc::RegionKind::Particles);
+  EXPECT_EQ(s.regions[0].shape, sc::RegionShape::Box);
+  EXPECT_EQ(s.solver.contact_detection, sc::ContactDetection::Auto);
+  EXPECT_EQ(sc::to_string(sc::GroupSelect::HoleRim), "hole_rim");
+  EXPECT_FALSE(s.coupled.has_value());
+  EXPECT_FALSE(s.regions[0].radius.given);  // no default, not written
+  // A value fails at the position it was written; a defaulted one at its table's header.
+  auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const strata::Error& e) {
+      EXPECT_EQ(e.kind(), strata::ErrorKind::Input);
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message([&] { s.solver.steps.fail("too many"); }), "scene.toml:31:9: too many");
+  EXPECT_EQ(message([&] { s.solver.dt_safety.fail("too safe"); }), "scene.toml:29:1: too safe");
+  EXPECT_EQ(message([&] { s.solver.damping.fail("too damped"); }), "--set solver.damping=local: too damped");
 }
 
 TEST(SceneLoad, ThreeDimensionalDefaultsKeepThreeComponents) {
   std::string text = edit("dimension = 2", "dimension = 3");
   text = edit("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]", text);
   const Scene s = strata::scene::parse(text, "scene.toml");
-  EXPECT_EQ(s.tables("region")[0].reals("origin"), (std::vector<double>{0.0, 0.0, 0.0}));
-  EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"x", "y", "z"}));
+  EXPECT_EQ(s.regions[0].origin.value, (std::vector<double>{0.0, 0.0, 0.0}));
+  EXPECT_EQ(s.boundaries[0].axes.value, (std::vector<std::string>{"x", "y", "z"}));
 }
 
 TEST(SceneLoad, MissingSceneFileIsAnInputError) {
@@ -407,8 +432,8 @@ TEST(SceneErrors, IntegersAndInfinity) {
   EXPECT_EQ(error_of(edit("ks = 2.4e10", "ks = nan")), "scene.toml:9:6: ks = nan must be a number (N/m)");
   const Scene s =
       strata::scene::parse(edit("ks = 2.4e10", "ks = 2.4e10\nshear_strength = inf"), "scene.toml");
-  EXPECT_TRUE(std::isinf(s.tables("material")[0].real("shear_strength")));
-  EXPECT_TRUE(s.tables("material")[0].given("shear_strength"));
+  EXPECT_TRUE(std::isinf(s.materials[0].shear_strength.value));
+  EXPECT_TRUE(s.materials[0].shear_strength.given);
 }
 
 TEST(SceneErrors, WrongTypesInLists) {
@@ -491,11 +516,11 @@ TEST(SceneErrors, ShapeAndTypeDependentKeys) {
 TEST(SceneOverrides, AppliedBeforeValidationAndRemembered) {
   const Scene s =
       strata::scene::parse(kBase, "scene.toml", {"solver.dt=1e-9", "output.render_field=velocity"});
-  EXPECT_EQ(s.table("solver").real("dt"), 1e-9);
-  EXPECT_TRUE(s.table("solver").given("dt"));
-  EXPECT_EQ(s.table("solver").where("dt").str(), "--set solver.dt=1e-9");
-  EXPECT_EQ(s.table("solver").integer("steps"), 1000);           // the rest of the file is untouched
-  EXPECT_EQ(s.table("output").str("render_field"), "velocity");  // a bare word is read as a string
+  EXPECT_EQ(s.solver.dt.value, 1e-9);
+  EXPECT_TRUE(s.solver.dt.given);
+  EXPECT_EQ(s.solver.dt.pos.str(), "--set solver.dt=1e-9");
+  EXPECT_EQ(s.solver.steps.value, 1000);               // the rest of the file is untouched
+  EXPECT_EQ(s.output.render_field.value, "velocity");  // a bare word is read as a string
 }
 
 TEST(SceneOverrides, ErrorsPointAtTheOverride) {
@@ -522,13 +547,13 @@ TEST(SceneOverrides, ErrorsPointAtTheOverride) {
 TEST(SceneOverrides, CreateKeysAndTables) {
   // A key the file did not write, inside a written table.
   Scene s = strata::scene::parse(kBase, "scene.toml", {"solver.damping=local"});
-  EXPECT_EQ(s.table("solver").str("damping"), "local");
-  EXPECT_EQ(s.table("solver").where("damping").str(), "--set solver.damping=local");
+  EXPECT_EQ(to_string(s.solver.damping), "local");
+  EXPECT_EQ(s.solver.damping.pos.str(), "--set solver.damping=local");
   // A whole table the file did not write.
   s = strata::scene::parse(kBase, "scene.toml", {"output.frames=5", "probe.stress_strain=true"});
-  EXPECT_EQ(s.table("output").integer("frames"), 5);
-  EXPECT_TRUE(s.table("probe").boolean("stress_strain"));
-  EXPECT_EQ(s.table("probe").where().str(), "--set probe.stress_strain=true");
+  EXPECT_EQ(s.output.frames.value, 5);
+  EXPECT_TRUE(s.probe.stress_strain.value);
+  EXPECT_EQ(s.probe.pos.str(), "--set probe.stress_strain=true");
   // A created table is checked like the file: here the default top_group does not exist.
   EXPECT_EQ(error_of(edit("name = \"top\"", "name = \"upper\""), {"probe.stress_strain=true"}),
             "--set probe.stress_strain=true: top_group = \"top\" names no [[group]] or [[region]], which "
@@ -539,11 +564,11 @@ TEST(SceneOverrides, ArrayEntriesByNameAndByIndex) {
   const Scene s = strata::scene::parse(kBase, "scene.toml",
                                        {"material.rock.kn=1e9", "region[0].diameter=0.002",
                                         "scene.title=\"x y\"", "boundary[0].axes=[\"y\"]"});
-  EXPECT_EQ(s.tables("material")[0].real("kn"), 1e9);
-  EXPECT_EQ(s.tables("material")[0].where("kn").str(), "--set material.rock.kn=1e9");
-  EXPECT_EQ(s.tables("region")[0].real("diameter"), 0.002);
-  EXPECT_EQ(s.table("scene").str("title"), "x y");
-  EXPECT_EQ(s.tables("boundary")[0].strings("axes"), (std::vector<std::string>{"y"}));
+  EXPECT_EQ(s.materials[0].kn.value, 1e9);
+  EXPECT_EQ(s.materials[0].kn.pos.str(), "--set material.rock.kn=1e9");
+  EXPECT_EQ(s.regions[0].diameter.value, 0.002);
+  EXPECT_EQ(s.scene.title.value, "x y");
+  EXPECT_EQ(s.boundaries[0].axes.value, (std::vector<std::string>{"y"}));
 
   EXPECT_EQ(error_of(kBase, {"material.granit.kn=1"}),
             "--set material.granit.kn=1: no [[material]] named "
@@ -595,5 +620,6 @@ TEST(SceneSchema, ReferenceDocIsInSyncWithTheSchema) {
   const std::string generated = strata::scene::reference_markdown();
   if (committed.str() != generated) std::ofstream(fresh) << generated;
   EXPECT_TRUE(committed.str() == generated)
-      << doc.string() << " is missing or differs from the schema (scene/src/schema.cpp). " << how;
+      << doc.string()
+      << " is missing or differs from the schema (the key declarations in scene/src/tables/). " << how;
 }

@@ -47,13 +47,13 @@ const std::string kCoupledKeys =
 
 TEST(SceneCoupled, LoadsWithDefaultsAndMapsOntoTheSweepOptions) {
   const Scene s = strata::scene::parse(kCoupled, "dir/scene.toml");
-  ASSERT_TRUE(s.coupled());
-  const auto& c = s.table("coupled");
-  EXPECT_EQ(c.str("case"), "metamaterial");
-  EXPECT_EQ(c.integers("eta"), (std::vector<std::int64_t>{1, 2, 20}));
-  EXPECT_FALSE(c.given("dt_ref"));
-  EXPECT_DOUBLE_EQ(c.real("dt_ref"), 1e-6);
-  EXPECT_EQ(c.str("fem_scheme"), "auto");
+  ASSERT_TRUE(s.coupled.has_value());
+  const auto& c = *s.coupled;
+  EXPECT_EQ(c.case_name.value, "metamaterial");
+  EXPECT_EQ(c.eta.value, (std::vector<std::int64_t>{1, 2, 20}));
+  EXPECT_FALSE(c.dt_ref.given);
+  EXPECT_DOUBLE_EQ(c.dt_ref.value, 1e-6);
+  EXPECT_EQ(c.fem_scheme.value, "auto");
 
   const auto o = strata::cases::coupled_report_options(s, /*force=*/false);
   EXPECT_EQ(o.case_name, "metamaterial");
@@ -71,7 +71,7 @@ TEST(SceneCoupled, LoadsWithDefaultsAndMapsOntoTheSweepOptions) {
 
   // The default η list is the paper's.
   const Scene d = strata::scene::parse(edit("eta = [1, 2, 20]\n", ""), "scene.toml");
-  EXPECT_FALSE(d.table("coupled").has("eta"));  // the default depends on the case
+  EXPECT_FALSE(d.coupled->eta.given);  // the default depends on the case
   EXPECT_EQ(strata::cases::coupled_report_options(d, false).etas, (std::vector<int>{1, 2, 3, 4, 5, 10, 20}));
   // A particle scene has no [coupled].
   EXPECT_FALSE(
@@ -79,13 +79,13 @@ TEST(SceneCoupled, LoadsWithDefaultsAndMapsOntoTheSweepOptions) {
                            "ks = 1\n[[region]]\nname = \"b\"\nmaterial = \"r\"\ndiameter = 1\nsize = [4, 4]\n"
                            "[solver]\nsteps = 1\n",
                            "scene.toml")
-          .coupled());
+          .coupled.has_value());
 }
 
 TEST(SceneCoupled, OverridesAreValidatedLikeTheFile) {
   const Scene s = strata::scene::parse(kCoupled, "scene.toml", {"coupled.dt_dem=1e-4", "coupled.eta=[1, 5]"});
-  EXPECT_DOUBLE_EQ(s.table("coupled").real("dt_dem"), 1e-4);
-  EXPECT_EQ(s.table("coupled").integers("eta"), (std::vector<std::int64_t>{1, 5}));
+  EXPECT_DOUBLE_EQ(s.coupled->dt_dem.value, 1e-4);
+  EXPECT_EQ(s.coupled->eta.value, (std::vector<std::int64_t>{1, 5}));
   EXPECT_EQ(error_of(kCoupled, {"coupled.eta=[0]"}), "--set coupled.eta=[0]: eta[0] = 0 must be >= 1");
 }
 
@@ -141,9 +141,7 @@ TEST(SceneCoupled, EtaValuesAreIntegersOfAtLeastOne) {
             "scene.toml:4:7: eta must have at least 1 entry, got 0");
   EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, 2, 1]")), "scene.toml:4:7: eta: 1 is listed twice");
   // 2.0 is a fine way to write 2.
-  EXPECT_EQ(strata::scene::parse(edit("eta = [1, 2, 20]", "eta = [1, 2.0]"), "scene.toml")
-                .table("coupled")
-                .integers("eta"),
+  EXPECT_EQ(strata::scene::parse(edit("eta = [1, 2, 20]", "eta = [1, 2.0]"), "scene.toml").coupled->eta.value,
             (std::vector<std::int64_t>{1, 2}));
 }
 
@@ -204,7 +202,7 @@ const std::string kWaveKeys =
 
 TEST(SceneCoupledWave, LoadsAndMapsOntoTheWaveOptions) {
   const Scene s = strata::scene::parse(kWave, kWaveFile);
-  ASSERT_TRUE(s.coupled());
+  ASSERT_TRUE(s.coupled.has_value());
   const auto o = strata::cases::wave_scene_options(s, /*force=*/false);
   // The geometry is resolved relative to the scene file's folder.
   EXPECT_EQ(o.geometry, (kWaveDir / "wave.geo").lexically_normal());
@@ -248,7 +246,7 @@ TEST(SceneCoupledWave, LoadsAndMapsOntoTheWaveOptions) {
 TEST(SceneCoupledWave, TheExampleScenesLoad) {
   for (const char* f : {"scene.toml", "embedded.toml", "quick.toml"}) {
     const Scene s = strata::scene::load(kWaveDir / f);
-    EXPECT_EQ(s.table("coupled").str("case"), "wave") << f;
+    EXPECT_EQ(s.coupled->case_name.value, "wave") << f;
   }
   const auto q = strata::cases::wave_scene_options(strata::scene::load(kWaveDir / "quick.toml"), false);
   EXPECT_EQ(q.etas, (std::vector<int>{1, 5}));

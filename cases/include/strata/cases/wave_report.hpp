@@ -54,7 +54,8 @@
 
 namespace strata::scene {
 class Scene;
-}
+struct CoupledTable;
+}  // namespace strata::scene
 
 namespace strata::cases {
 
@@ -193,8 +194,11 @@ struct WaveStability {
 };
 WaveStability wave_stability(const WaveModel& m, const WaveOptions& opt);
 
-/// Where a refusal points: a scene key (file:line:col), or nowhere (empty) for `strata report`.
-using WaveRefuse = std::function<void(const std::string& key, const std::string& message)>;
+/// Where a refusal points: the [coupled] key of the scene that it names (file:line:col), or
+/// nowhere (no table) for `strata report`.
+struct WaveRefuse {
+  const scene::CoupledTable* table = nullptr;
+};
 
 /// The one path behind `strata report wave` and `strata check|run` of a wave scene: validates
 /// `opt` (defaults already filled in), builds the model, prints it and the stability numbers

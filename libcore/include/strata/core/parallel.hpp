@@ -18,7 +18,11 @@ namespace strata::par {
 
 /// Number of threads parallel loops use.
 int threads();
-/// Sets the number of threads parallel loops use; n <= 0 means all hardware threads.
+/// The most threads strata asks OpenMP for: far above any machine it runs on (oversubscribing
+/// a machine gains nothing), and small enough that OpenMP can start them.
+inline constexpr int kMaxThreads = 1024;
+/// Sets the number of threads parallel loops use; n <= 0 means all hardware threads. Throws
+/// strata::Error (Input) above kMaxThreads.
 void set_threads(int n);
 /// Hardware threads available.
 int hardware_threads();

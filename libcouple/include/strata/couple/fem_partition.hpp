@@ -20,7 +20,10 @@ class FemPartition final : public Partition {
   std::size_t dofs() const override { return static_cast<std::size_t>(solver_.u().size()); }
   double displacement(std::size_t d) const override { return solver_.u()[static_cast<Eigen::Index>(d)]; }
   double velocity(std::size_t d) const override { return solver_.v()[static_cast<Eigen::Index>(d)]; }
-  void make_external(std::size_t d) override { solver_.prescribe(d); }
+  void make_external(std::size_t d) override {
+    solver_.prescribe(d);
+    solver_.mark_exchange(d);  // its work is energy passed between the partitions
+  }
   void set_external(std::size_t d, double u, double v) override { solver_.set_prescribed(d, u, v); }
   void initialise() override { solver_.initialise(); }
   void step() override { solver_.step(); }

@@ -56,8 +56,11 @@ struct Settings {
   double local_alpha = 0.7;         ///< local non-viscous damping α in [0,1): F -= α|F|sign(v)
   std::array<double, 3> gravity{};  ///< body acceleration (m/s²)
   bool contact_detection = true;    ///< search for new contacts between unbonded particles
-  int energy_check_every = 1000;    ///< blow-up check cadence in steps (<= 0: never)
-  double skin = 0;                  ///< Verlet skin (m); 0: half the largest radius
+  /// Steps between two full blow-up checks (kinetic and stored energy against the budget;
+  /// <= 0: never). Between them every step compares the fastest particle's speed with what
+  /// the budget allows and checks at once when it is exceeded.
+  int energy_check_every = 100;
+  double skin = 0;  ///< Verlet skin (m); 0: half the largest radius
   /// Threads are used only with at least this many particles each (smaller models run on
   /// fewer threads; results do not depend on it). Tests lower it to exercise threading.
   int min_particles_per_thread = 4096;
@@ -139,8 +142,10 @@ class Simulation {
   /// Drives the group's particles along the given axes from outside (coupling):
   /// they take the displacement and velocity given by set_kinematics() and move with that
   /// velocity until the next call, exerting their bond and contact forces on the others.
-  /// The work their motion does is counted as external work, like a prescribed velocity.
-  void drive(const std::string& group, unsigned axes);
+  /// The work their motion does is counted as external work, like a prescribed velocity;
+  /// with `exchange` (the driver is another partition of a coupled model) it is also booked
+  /// apart, as exchange_work().
+  void drive(const std::string& group, unsigned axes, bool exchange = false);
   /// Sets displacement u (from the initial position) and velocity v of a driven particle
   /// along its driven axes; other axes are left alone. Needs an initialised model.
   void set_kinematics(std::size_t id, const std::array<double, 3>& u, const std::array<double, 3>& v);
@@ -186,6 +191,12 @@ class Simulation {
   double bond_energy() const;
   /// Work done on the particles by prescribed motion, applied forces, walls and gravity (J).
   double external_work() const;
+  /// The part of external_work() done through axes driven with drive(..., exchange = true):
+  /// energy passed in from the other partition of a coupled model (J).
+  double exchange_work() const;
+  /// The energy below which the blow-up check never fires (J): the bond energy of a
+  /// displacement of 1e-6 diameters at every particle.
+  double energy_floor() const;
   /// Energy removed by damping (J).
   double damping_dissipation() const;
   std::size_t broken_count(BreakMode mode) const;

@@ -83,6 +83,9 @@ class Solver {
   void fix(std::size_t d);
   /// Makes DOF `d` driven from outside, starting at u, v (see set_prescribed).
   void prescribe(std::size_t d, double u = 0, double v = 0);
+  /// Marks a prescribed DOF as driven by another partition of a coupled model: the work done
+  /// through it is energy exchanged inside the model, booked apart (exchange_work_bound()).
+  void mark_exchange(std::size_t d);
   /// Adds a nodal force f(t) (N) on DOF `d`.
   void add_load(std::size_t d, std::function<double(double)> f);
   /// Initial displacement and velocity of the free DOFs (default: rest).
@@ -122,6 +125,15 @@ class Solver {
   double strain_energy() const;
   /// Σ |work| done on the model by loads and prescribed DOFs so far (J).
   double work_bound() const { return work_abs_; }
+  /// The part of work_bound() done through DOFs marked with mark_exchange() (J).
+  double exchange_work_bound() const { return exchange_work_abs_; }
+  /// Work done on the model by loads and the prescribed DOFs not marked with
+  /// mark_exchange(), with its sign (J): what an energy balance of a coupled model counts as
+  /// input (an oscillating reaction does no net work, where work_bound() counts every swing).
+  double user_work() const { return user_work_; }
+  /// The energy below which the blow-up check never fires (J): round-off of the model at
+  /// rest.
+  double energy_floor() const { return energy_tiny_; }
   /// Writes the state a continued run needs (time, step, u, v, a, prescribed DOFs' current
   /// values, work and energy bookkeeping) under `prefix` ("fem/").
   void save_state(StateWriter& out, const std::string& prefix = "fem/") const;
@@ -138,6 +150,7 @@ class Solver {
   struct Prescribed {
     std::size_t dof;
     double u0, v0, t0;
+    bool exchange = false;  ///< driven by another partition (mark_exchange)
   };
   struct Load {
     std::size_t dof;
@@ -165,7 +178,7 @@ class Solver {
   double time_ = 0;
   std::int64_t step_ = 0, last_good_ = 0;
   bool initialised_ = false;
-  double energy0_ = 0, work_abs_ = 0, energy_tiny_ = 0;
+  double energy0_ = 0, work_abs_ = 0, exchange_work_abs_ = 0, user_work_ = 0, energy_tiny_ = 0;
   std::vector<double> work_force_prev_, work_u_prev_;  // per load then per prescribed DOF
 };
 

@@ -164,8 +164,23 @@ struct BuiltModel {
   void advance(std::int64_t steps);
   /// Last step whose state passed the health checks of every part.
   std::int64_t last_good_step() const;
+  /// The coupled model's own health check, besides each part's: the energy of particles and
+  /// FEM together may not exceed 10 × (its value at the start + the work of loads and
+  /// boundary conditions), the work passed between the parts left out (inside one part it
+  /// counts as work, so a runaway exchange would raise that part's allowance with it), and
+  /// the work of loads and boundaries taken with its sign (the growing swings of a reaction
+  /// do no net work, but summed as |work| they would raise the allowance too).
+  /// advance() runs it every kCoupledCheckEvery system steps and at its end; throws
+  /// strata::Error (Numerical) on failure. take_initial_energy() records the start (once;
+  /// before a restart's state is loaded, so a continued run checks against the same start).
+  void check_coupled_energy();
+  void take_initial_energy();
+  static constexpr std::int64_t kCoupledCheckEvery = 50;
   /// A hash of the whole state (particles, bonds, FEM displacements and velocities).
   std::uint64_t state_hash() const;
+
+  double coupled_energy0 = -1;         ///< energy at the start (J); < 0: not taken yet
+  std::int64_t coupled_last_good = 0;  ///< last step that passed check_coupled_energy()
 
   // The parts (set by build_model).
   std::unique_ptr<dem::Simulation> dem_;

@@ -39,7 +39,8 @@ struct RunResult {
   int stop_reason = 0;  ///< the observer's non-zero stop request (a signal number)
   std::int64_t first_step = 0, step = 0;
   double time = 0;
-  double wall_seconds = 0;
+  double wall_seconds = 0;  ///< the whole run: stepping, outputs, the final checkpoint
+  double step_seconds = 0;  ///< the time loop only (steps, probes, frames), as timed comparisons use
   double particle_steps_per_s = 0;
   std::filesystem::path directory;
   std::filesystem::path last_frame;  ///< empty: no frame written

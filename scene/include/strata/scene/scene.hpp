@@ -1,27 +1,20 @@
 #pragma once
-/// Scene files: declared keys, validation with file:line:col messages, typed access.
+/// Scene files: declared keys, validation with file:line:col messages, the typed scene.
 ///
-/// Every key a scene may hold is declared once in the schema table (schema.cpp) with its
-/// type, unit, allowed range or choices, default and doc string. The same table validates
-/// input (files and `--set` overrides) and generates docs/scene-reference.md.
+/// Every key a scene may hold is declared once, in the file of its table
+/// (scene/src/tables/), with its type, unit, allowed range or choices, default and doc
+/// string, next to the function that reads it into the table's struct (description.hpp).
+/// The same declarations validate input (files and `--set` overrides) and generate
+/// docs/scene-reference.md.
+#include <strata/scene/description.hpp>
+
 #include <cstdint>
 #include <filesystem>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 namespace strata::scene {
-
-/// Where a value came from: a position in a scene file, or a `--set` override.
-struct SourcePos {
-  std::string file;     ///< scene file path as given, or "--set" for overrides
-  int line = 0;         ///< 1-based; 0 when unknown
-  int column = 0;       ///< 1-based; 0 when unknown
-  std::string setting;  ///< for overrides: the "key=value" text as given to `--set`
-  /// "scene.toml:42:17" (or "--set solver.dt=1" for an override)
-  std::string str() const;
-};
 
 /// Value types a key can have.
 enum class Type {
@@ -86,80 +79,34 @@ std::string range_text(const KeySpec& key);
 /// "real", "list of reals", ... as the reference's type column shows it.
 std::string type_name(Type type);
 
-/// A stored, validated value.
-struct Value {
-  Type type = Type::Real;
-  bool b = false;
-  std::int64_t i = 0;
-  double r = 0.0;
-  std::string s;                           ///< String, Choice, Path (resolved), OutputPath (resolved)
-  std::vector<double> reals;               ///< RealList
-  std::vector<std::int64_t> integers;      ///< IntegerList
-  std::vector<std::string> strings;        ///< StringList
-  std::vector<std::vector<double>> table;  ///< RealTable
-  SourcePos pos;
-  bool given = false;  ///< false: filled from the default
-};
-
-/// One validated table instance ([solver], or one [[region]] entry).
-class Table {
- public:
-  /// "solver" or "region[2]" (0-based index), for messages.
-  const std::string& label() const { return label_; }
-  /// Position of the table header (or of the file start for tables not written).
-  const SourcePos& where() const { return pos_; }
-  /// Position of a key's value, or of the table header when the key was defaulted.
-  SourcePos where(const std::string& key) const;
-  /// Whether the user wrote the key (not defaulted).
-  bool given(const std::string& key) const;
-  /// Whether the key has a value (given or defaulted).
-  bool has(const std::string& key) const;
-
-  bool boolean(const std::string& key) const;
-  std::int64_t integer(const std::string& key) const;
-  double real(const std::string& key) const;
-  /// String, Choice, Path or OutputPath (paths are resolved relative to the scene file).
-  const std::string& str(const std::string& key) const;
-  std::filesystem::path path(const std::string& key) const { return str(key); }
-  const std::vector<double>& reals(const std::string& key) const;
-  const std::vector<std::int64_t>& integers(const std::string& key) const;
-  const std::vector<std::string>& strings(const std::string& key) const;
-  const std::vector<std::vector<double>>& real_table(const std::string& key) const;
-
-  /// Throws an Input error "file:line:col: message" pointing at `key`'s value.
-  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
-
-  // Construction (used by the loader).
-  Table(std::string label, SourcePos pos) : label_(std::move(label)), pos_(std::move(pos)) {}
-  void set(const std::string& key, Value v) { values_[key] = std::move(v); }
-
- private:
-  const Value& get(const std::string& key) const;
-  std::string label_;
-  SourcePos pos_;
-  std::map<std::string, Value> values_;
-};
-
-/// A validated scene.
+/// A validated scene: one typed struct per table (description.hpp).
 class Scene {
  public:
   std::filesystem::path file;  ///< the scene file as given
   std::filesystem::path dir;   ///< its directory: paths in the scene are relative to it
 
-  /// A plain table; always present (filled with defaults when not written), except
-  /// [coupled], which is present only in a coupled-chain scene (see coupled()).
-  const Table& table(const std::string& name) const;
-  /// The entries of an array of tables (possibly empty).
-  const std::vector<Table>& tables(const std::string& name) const;
-
+  // Plain tables: always present, filled with defaults when not written.
+  SceneTable scene;
+  SolverTable solver;
+  OutputTable output;
+  ProbeTable probe;
+  // Arrays of tables, in file order (possibly empty).
+  std::vector<MaterialTable> materials;
+  std::vector<RegionTable> regions;
+  std::vector<GroupTable> groups;
+  std::vector<BoundaryTable> boundaries;
+  std::vector<LoadTable> loads;
+  std::vector<WallTable> walls;
   /// A coupled scene (the coupled chains of Li et al. 2023, or the 2D coupled wave of
-  /// examples/04_coupled_wave): it has a [coupled] table, which describes the whole model, and no particle or
-  /// mesh tables
-  /// ([scene], [[material]], [[region]], ...).
-  bool coupled() const { return !tables("coupled").empty(); }
+  /// examples/04_coupled_wave) has a [coupled] table, which describes the whole model, and no
+  /// particle or mesh tables ([scene], [[material]], [[region]], ...): of those only the
+  /// defaults of the plain tables are here.
+  std::optional<CoupledTable> coupled;
 
-  // Construction (used by the loader).
-  std::map<std::string, std::vector<Table>> entries;
+  /// A hash of every value but those of [output] and solver.steps, solver.duration and
+  /// solver.threads (and of the contents of the files the scene names): a checkpoint
+  /// continues only the scene it was taken of.
+  std::string fingerprint;
 };
 
 /// The tables a coupled-chain scene may hold besides [coupled], and of [output] the keys that

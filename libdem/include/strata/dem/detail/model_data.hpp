@@ -40,14 +40,16 @@ struct PairList {
 
 /// Boundary condition of one particle (only particles with a condition have one).
 struct BcParticle {
-  std::uint32_t index = 0;  // internal index
-  std::uint8_t mode[3]{};   // 0 free, 1 fixed, 2 velocity, 3 step displacement
-  double value[3]{};        // velocity (mode 2) or increment (mode 3)
-  std::int64_t every[3]{};  // steps between increments (mode 3)
-  int history = -1;         // force history index
-  double dx_prev[3]{};      // last step's displacement (trapezoid work)
-  double f_int[3]{};        // last internal force
-  double w_ahead = 0;       // work booked for the half interval after the last step
+  std::uint32_t index = 0;    // internal index
+  std::uint8_t mode[3]{};     // 0 free, 1 fixed, 2 velocity, 3 step displacement
+  std::uint8_t exchange = 0;  // bit a: axis a is driven by another partition (coupling)
+  double value[3]{};          // velocity (mode 2) or increment (mode 3)
+  std::int64_t every[3]{};    // steps between increments (mode 3)
+  int history = -1;           // force history index
+  double dx_prev[3]{};        // last step's displacement (trapezoid work)
+  double f_int[3]{};          // last internal force
+  double w_ahead = 0;         // work booked for the half interval after the last step
+  double w_ahead_ex = 0;      // the part of w_ahead on exchange axes
 };
 
 /// Rigid frictionless plane: point, unit normal (towards the particles), velocity, stiffness.
@@ -58,10 +60,12 @@ struct Wall {
 /// Per-block accumulators (padded to a cache line).
 struct alignas(64) BlockAcc {
   double work = 0;        // prescribed motion, applied forces, walls (accumulated)
+  double work_ex = 0;     // the part of work on exchange axes (coupling, accumulated)
   double dissipated = 0;  // damping (accumulated)
   double ke = 0;          // kinetic energy at the last energy step
   double eb = 0;          // pair + wall energy at the last energy step
   double vmax2 = 0;       // largest |v|² in the last step
+  double vfree2 = 0;      // the same over free motion only (prescribed axes left out)
 };
 
 /// A bond break as the step records it (per thread; merged into BreakEvents after run()).

@@ -405,7 +405,7 @@ class Engine final : public LawEngine<D> {
 
     for (std::ptrdiff_t blk = b / kBlock; blk * kBlock < e; ++blk) {
       const std::ptrdiff_t pe = std::min(e, (blk + 1) * kBlock);
-      double work = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0;
+      double work = 0, work_ex = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0, vfree2 = 0;
       if (!m.bonds.r0.empty())
         bond_block<kEnergy, kPerBond>(m, t, c, blk * kBlock, pe, e);
       else if (m.uniform_diameter > 0)
@@ -486,6 +486,7 @@ class Engine final : public LawEngine<D> {
             v2 += vn * vn;
             vv += vo * vn;
           }
+          vfree2 = std::max(vfree2, v2);
           diss += dp;
         } else {
           BcParticle& bc = *bc_it++;
@@ -493,6 +494,8 @@ class Engine final : public LawEngine<D> {
           if (bc.history >= 0)
             for (int a = 0; a < D; ++a) fapp[a] = c.hist[bc.history][a];
           bc.w_ahead = 0;
+          bc.w_ahead_ex = 0;
+          double v2f = 0;  // over the free axes
           for (int a = 0; a < D; ++a) {
             bc.f_int[a] = F[a];
             const double vo = V[a][p];
@@ -500,6 +503,7 @@ class Engine final : public LawEngine<D> {
             if (bc.mode[a] == 0) {
               vn = integrate<DK>(vo, F[a] + fapp[a], imass, c.g[a], dt, cv, alpha, diss);
               work += fapp[a] * vn * dt;
+              v2f += vn * vn;
             } else {
               if (bc.mode[a] == 1)
                 vn = 0;
@@ -512,6 +516,10 @@ class Engine final : public LawEngine<D> {
               const double fr = F[a] + fapp[a] + c.g[a] / imass;
               work -= 0.5 * fr * (bc.dx_prev[a] + dx);
               bc.w_ahead -= 0.5 * fr * dx;
+              if (bc.exchange >> a & 1u) {  // booked apart: energy passed between partitions
+                work_ex -= 0.5 * fr * (bc.dx_prev[a] + dx);
+                bc.w_ahead_ex -= 0.5 * fr * dx;
+              }
               bc.dx_prev[a] = dx;
             }
             V[a][p] = vn;
@@ -519,14 +527,17 @@ class Engine final : public LawEngine<D> {
             v2 += vn * vn;
             vv += vo * vn;
           }
+          vfree2 = std::max(vfree2, v2f);
         }
         vmax2 = std::max(vmax2, v2);
         if constexpr (kEnergy) ke += 0.5 * vv / imass;
       }
       BlockAcc& A = m.acc[blk];
       A.work += work;
+      A.work_ex += work_ex;
       A.dissipated += diss;
       A.vmax2 = vmax2;
+      A.vfree2 = vfree2;
       if constexpr (kEnergy) {
         A.ke = ke;
         A.eb = eb;

@@ -1,0 +1,256 @@
+// Pass 4 of the loader: checks between the keys of a scene (shape-dependent keys,
+// cross-references, unique names, [coupled] keys against its case), on the validated tables.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "loader_text.hpp"
+#include "table.hpp"
+
+namespace strata::scene {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using namespace text;
+
+class KeyChecks {
+ public:
+  explicit KeyChecks(const ReportProblem& report) : report_(report) {}
+
+  static std::string entry_title(const TableSpec& spec, const Table& t) {
+    if (!spec.array) return bracket(spec);
+    if (t.has("name")) return fmt::format("{} '{}'", bracket(spec), t.str("name"));
+    const std::string& l = t.label();
+    return fmt::format("{} at index {}", bracket(spec),
+                       l.substr(l.find('[') + 1, l.size() - l.find('[') - 2));
+  }
+
+  /// `key` of `t` must be one of `names`, the names of `what` ("[[material]]").
+  void check_reference(const Table& t, const std::string& key, const std::string& what,
+                       const std::vector<std::string>& names, const std::string& why = "") {
+    const std::string& v = t.str(key);
+    if (std::find(names.begin(), names.end(), v) != names.end()) return;
+    report(t.where(key),
+           fmt::format("{} = \"{}\" names no {}{}{} ({})", key, v, what, why, did_you_mean(v, names),
+                       names.empty() ? "there are none" : "defined: " + join(names)));
+  }
+
+  /// Names of the entries of an array table; a repeated name is a problem.
+  std::vector<std::string> unique_names(const Tables& scene, const std::string& table) {
+    std::vector<std::string> names;
+    const auto& entries = scene.tables(table);
+    for (std::size_t j = 0; j < entries.size(); ++j) {
+      const std::string& n = entries[j].str("name");
+      if (n.empty()) report(entries[j].where("name"), "name must not be empty");
+      const auto it = std::find(names.begin(), names.end(), n);
+      if (it != names.end()) {
+        report(entries[j].where("name"),
+               fmt::format("[[{}]] name '{}' is used twice (first at {})", table, n,
+                           entries[static_cast<std::size_t>(it - names.begin())].where("name").str()));
+      }
+      names.push_back(n);
+    }
+    return names;
+  }
+
+  /// `t` must have `key` when `condition_key` has the value that needs it.
+  void need(const TableSpec& spec, const Table& t, const std::string& key, const std::string& condition_key) {
+    if (t.has(key)) return;
+    report(t.where(condition_key),
+           fmt::format("{} needs '{}' for {} = \"{}\" ({})", entry_title(spec, t), key, condition_key,
+                       t.str(condition_key), first_sentence(find_key(spec, key)->doc)));
+  }
+
+  /// Checks between the keys of [coupled] (stability needs the model: report.cpp, wave_report.cpp).
+  void check_coupled(const Tables& scene) {
+    const Table& c = scene.table("coupled");
+    const TableSpec& spec = *find_table("coupled");
+    const std::string& name = c.str("case");
+    // A key declared for other cases (KeySpec::cases) is refused, naming what this case takes.
+    for (const KeySpec& k : spec.keys) {
+      if (k.cases.empty() || !c.given(k.name) ||
+          std::find(k.cases.begin(), k.cases.end(), name) != k.cases.end())
+        continue;
+      std::vector<std::string> quoted;
+      for (const auto& other : k.cases) quoted.push_back("\"" + other + "\"");
+      report(c.where(k.name),
+             fmt::format("{} applies only to case = {} (this scene has case = \"{}\"); remove "
+                         "it (case = \"{}\" takes: {})",
+                         k.name, join(quoted, " or "), name, name, join(coupled_case_keys(name))));
+    }
+    const bool wave = name == "wave";
+    if (wave) {
+      need(spec, c, "geometry", "case");
+    } else {
+      need(spec, c, "dt_dem", "case");
+    }
+    // Not given: the case's default list (the chains': the paper's, up to 20).
+    const std::vector<std::int64_t> etas = c.has("eta") ? c.integers("eta") : std::vector<std::int64_t>{20};
+    for (std::size_t j = 0; j < etas.size(); ++j) {
+      if (std::find(etas.begin(), etas.begin() + static_cast<std::ptrdiff_t>(j), etas[j]) !=
+          etas.begin() + static_cast<std::ptrdiff_t>(j)) {
+        report(c.where("eta"), fmt::format("eta: {} is listed twice", etas[j]));
+        break;
+      }
+    }
+    if (wave || etas.empty() || !c.has("dt_dem")) return;
+    const double duration = c.real("duration") > 0 ? c.real("duration") : name == "chain6" ? 20.0 : 0.075;
+    const std::int64_t eta_max = *std::max_element(etas.begin(), etas.end());
+    const double dt_fem = static_cast<double>(eta_max) * c.real("dt_dem");
+    if (std::floor(duration / dt_fem + 1e-9) < 1)
+      report(c.given("duration") ? c.where("duration") : c.where("eta"),
+             fmt::format("duration = {:g} s holds no FEM step of eta = {} (eta*dt_dem = {:g} s): lengthen "
+                         "duration or lower eta",
+                         duration, eta_max, dt_fem));
+  }
+
+  void run(const Tables& scene) {
+    if (scene.coupled()) return check_coupled(scene);
+    const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
+    const auto materials = unique_names(scene, "material");
+    const auto regions = unique_names(scene, "region");
+    unique_names(scene, "wall");
+    // Every region is also a group of its own name, so boundaries, loads and probes may name
+    // either; a [[group]] must not take a region's name.
+    auto groups = unique_names(scene, "group");
+    for (const Table& g : scene.tables("group")) {
+      if (std::find(regions.begin(), regions.end(), g.str("name")) != regions.end())
+        report(g.where("name"),
+               fmt::format("[[group]] name '{}' is already a [[region]] name (every region is "
+                           "also a group of its own name)",
+                           g.str("name")));
+    }
+    groups.insert(groups.end(), regions.begin(), regions.end());
+    const std::string group_what = "[[group]] or [[region]]";
+
+    for (const Table& m : scene.tables("material"))
+      if (m.given("youngs_modulus") != m.given("poisson_ratio")) {
+        const std::string given = m.given("youngs_modulus") ? "youngs_modulus" : "poisson_ratio";
+        const std::string other = given == "youngs_modulus" ? "poisson_ratio" : "youngs_modulus";
+        report(m.where(given),
+               fmt::format("material '{}' gives {} without {}: the continuum of an FEM region "
+                           "needs both (or neither, for the lattice's own)",
+                           m.str("name"), given, other));
+      }
+    const TableSpec& region_spec = *find_table("region");
+    for (const Table& r : scene.tables("region")) {
+      check_reference(r, "material", "[[material]]", materials);
+      if (r.str("kind") == "particles") need(region_spec, r, "diameter", "kind");
+      const std::string& lattice = r.str("lattice");
+      if (lattice == "hex" && dim == 3)
+        report(r.where("lattice"), "lattice = \"hex\" is for 2D scenes; in 3D use hcp or fcc (or auto)");
+      if ((lattice == "hcp" || lattice == "fcc") && dim == 2)
+        report(r.where("lattice"),
+               fmt::format("lattice = \"{}\" is for 3D scenes; in 2D use hex (or auto)", lattice));
+      const std::string& shape = r.str("shape");
+      if (shape == "box") need(region_spec, r, "size", "shape");
+      if (shape == "disk" || shape == "sphere") {
+        if (shape == "disk" && dim == 3)
+          report(r.where("shape"), "shape = \"disk\" is for 2D scenes; in 3D use \"sphere\"");
+        if (shape == "sphere" && dim == 2)
+          report(r.where("shape"), "shape = \"sphere\" is for 3D scenes; in 2D use \"disk\"");
+        need(region_spec, r, "center", "shape");
+        need(region_spec, r, "radius", "shape");
+      }
+      if (shape == "polygon") {
+        if (dim == 3)
+          report(r.where("shape"),
+                 "shape = \"polygon\" is for 2D scenes; in 3D use a geometry file (shape = \"file\")");
+        need(region_spec, r, "points", "shape");
+        if (r.has("points") && r.real_table("points").size() < 3)
+          report(r.where("points"), fmt::format("points has {} corners; a polygon needs at least 3",
+                                                r.real_table("points").size()));
+      }
+      if (shape == "file") {
+        need(region_spec, r, "file", "shape");
+        if (r.has("file")) {
+          const std::string ext = lower(fs::path(r.str("file")).extension().string());
+          static const std::vector<std::string> known = {".geo", ".msh", ".step", ".stp", ".stl", ".off"};
+          if (std::find(known.begin(), known.end(), ext) == known.end())
+            report(r.where("file"),
+                   fmt::format("file '{}' is not a geometry file strata reads (allowed: .geo, "
+                               ".msh, .step, .stl, .off)",
+                               fs::path(r.str("file")).filename().string()));
+        }
+      }
+    }
+
+    const TableSpec& group_spec = *find_table("group");
+    for (const Table& g : scene.tables("group")) {
+      if (!g.str("region").empty()) check_reference(g, "region", "[[region]]", regions);
+      if (g.str("select") == "box") {
+        need(group_spec, g, "box_min", "select");
+        need(group_spec, g, "box_max", "select");
+        if (g.has("box_min") && g.has("box_max")) {
+          const auto &lo = g.reals("box_min"), &hi = g.reals("box_max");
+          for (std::size_t c = 0; c < lo.size() && c < hi.size(); ++c) {
+            if (!(hi[c] > lo[c])) {
+              report(
+                  g.where("box_max"),
+                  fmt::format("box_max[{0}] = {1} must be greater than box_min[{0}] = {2}", c, hi[c], lo[c]));
+              break;
+            }
+          }
+        }
+      }
+    }
+
+    const TableSpec& boundary_spec = *find_table("boundary");
+    for (const Table& b : scene.tables("boundary")) {
+      check_reference(b, "group", group_what, groups);
+      if (b.str("type") == "velocity") need(boundary_spec, b, "velocity", "type");
+      if (b.str("type") == "step_displacement") need(boundary_spec, b, "increment", "type");
+    }
+
+    for (const Table& l : scene.tables("load")) {
+      check_reference(l, "group", group_what, groups);
+      const auto& times = l.reals("times");
+      for (std::size_t j = 1; j < times.size(); ++j) {
+        if (!(times[j] > times[j - 1])) {
+          report(l.where("times"),
+                 fmt::format("times must increase: times[{}] = {} is not after times[{}] = {}", j, times[j],
+                             j - 1, times[j - 1]));
+          break;
+        }
+      }
+      if (l.real_table("forces").size() != times.size())
+        report(l.where("forces"),
+               fmt::format("forces has {} rows but times has {} entries: give one force per time",
+                           l.real_table("forces").size(), times.size()));
+    }
+
+    for (const Table& w : scene.tables("wall")) {
+      const auto& n = w.reals("normal");
+      if (std::all_of(n.begin(), n.end(), [](double x) { return x == 0.0; }))
+        report(w.where("normal"), "normal must not be zero: give the direction pointing into the particles");
+    }
+
+    const Table& solver = scene.table("solver");
+    if (solver.integer("steps") == 0 && solver.real("duration") == 0.0)
+      report(solver.where(), "the run has no length: set solver.steps or solver.duration (both are 0)");
+
+    const Table& probe = scene.table("probe");
+    const std::string& axis = probe.str("axis");
+    if (axis == "z" && dim == 2)
+      report(probe.where("axis"), "axis = \"z\" is not an axis of a 2D scene (allowed: x, y)");
+    if (probe.boolean("stress_strain")) {
+      check_reference(probe, "top_group", group_what, groups, ", which stress_strain = true needs");
+      check_reference(probe, "bottom_group", group_what, groups, ", which stress_strain = true needs");
+    }
+  }
+
+ private:
+  void report(const SourcePos& pos, std::string message) { report_(pos, std::move(message)); }
+
+  const ReportProblem& report_;
+};
+
+}  // namespace
+
+void check_between_keys(const Tables& tables, const ReportProblem& report) { KeyChecks(report).run(tables); }
+
+}  // namespace strata::scene

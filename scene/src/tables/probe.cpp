@@ -1,0 +1,55 @@
+// [probe]: its keys, declared once (they validate scene files and generate
+// docs/scene-reference.md), and their reading into ProbeTable.
+#include "table_file.hpp"
+
+namespace strata::scene::tables {
+
+TableSpec probe_spec() {
+  return {
+      "probe",
+      false,
+      false,
+      "Measurements written as CSV rows during the run (every output.probe_every steps).",
+      {
+          K("stress_strain", Bool)
+              .def("false")
+              .doc("Record the axial stress and strain of a specimen between two groups, as in a "
+                   "laboratory compression test (Li et al. 2017); needs top_group and bottom_group."),
+          K("top_group", String)
+              .def(R"("top")")
+              .doc("The [[group]] (or [[region]]) at the upper end of the specimen (stress_strain)."),
+          K("bottom_group", String)
+              .def(R"("bottom")")
+              .doc("The [[group]] (or [[region]]) at the lower end of the specimen (stress_strain)."),
+          K("axis", Choice).choices({"x", "y", "z"}).def(R"("y")").doc("Loading axis of stress_strain."),
+          K("energy", Bool)
+              .def("true")
+              .doc("Record the kinetic energy, the elastic energy of bonds and contacts, and the work "
+                   "done by damping."),
+          K("broken_bonds", Bool)
+              .def("true")
+              .doc("Record the number of bonds broken in tension and in shear."),
+          K("gauges", StringList)
+              .def("[]")
+              .doc("Groups whose mean displacement is recorded at every probe row (columns <group>_ux, "
+                   "<group>_uy and, in 3D, <group>_uz): particles, FEM nodes or both. Gauges compare runs "
+                   "of one geometry, e.g. a coupled model against an all-particle one."),
+      }};
+}
+
+ProbeTable read_probe(const Table& t) {
+  Reader read(t, "probe");
+  ProbeTable p;
+  p.pos = t.where();
+  read("stress_strain", p.stress_strain);
+  read("top_group", p.top_group);
+  read("bottom_group", p.bottom_group);
+  read("axis", p.axis);
+  read("energy", p.energy);
+  read("broken_bonds", p.broken_bonds);
+  read("gauges", p.gauges);
+  read.done();
+  return p;
+}
+
+}  // namespace strata::scene::tables

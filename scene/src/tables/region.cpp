@@ -1,0 +1,142 @@
+// [[region]]: its keys, declared once (they validate scene files and generate
+// docs/scene-reference.md), and their reading into RegionTable.
+#include "table_file.hpp"
+
+namespace strata::scene::tables {
+namespace {
+const Word<RegionKind> kKind[] = {{"particles", RegionKind::Particles}, {"fem", RegionKind::Fem}};
+const Word<RegionShape> kShape[] = {{"box", RegionShape::Box},
+                                    {"disk", RegionShape::Disk},
+                                    {"sphere", RegionShape::Sphere},
+                                    {"polygon", RegionShape::Polygon},
+                                    {"file", RegionShape::File}};
+const Word<RegionEccentricity> kEccentricity[] = {{"none", RegionEccentricity::None},
+                                                  {"cube", RegionEccentricity::Cube},
+                                                  {"sphere", RegionEccentricity::Sphere}};
+}  // namespace
+
+TableSpec region_spec() {
+  return {
+      "region",
+      true,
+      true,
+      "A part of the model: a lattice of particles (disks in 2D, spheres in 3D) or a finite-element "
+      "mesh, filling a simple shape or a geometry file.",
+      {
+          K("name", String).required().doc("The region's name, used by the `region` key of [[group]]."),
+          K("kind", Choice)
+              .choices(words(kKind))
+              .def(R"("particles")")
+              .doc("particles: bonded particles (DEM); fem: finite elements."),
+          K("material", String).required().doc("The [[material]] that fills the region, by name."),
+          K("lattice", Choice)
+              .choices({"auto", "hex", "hcp", "fcc"})
+              .def(R"("auto")")
+              .doc("Packing of the particles: hex (2D), hcp or fcc (3D); auto is hex in 2D and hcp "
+                   "in 3D."),
+          K("diameter", Real, "m").gt(0).doc("Particle diameter d; required when kind = \"particles\"."),
+          K("shape", Choice)
+              .choices(words(kShape))
+              .def(R"("box")")
+              .doc("What the region fills: box (origin, size), disk in 2D or sphere in 3D (center, "
+                   "radius), polygon in 2D (points), or a geometry file (file)."),
+          K("origin", RealList, "m").per_axis().def("[0.0, 0.0, 0.0]").doc("Lower corner of a box."),
+          K("size", RealList, "m")
+              .per_axis()
+              .gt(0)
+              .doc("Extent of a box along each axis; required when shape = \"box\"."),
+          K("center", RealList, "m")
+              .per_axis()
+              .doc("Centre of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
+          K("radius", Real, "m")
+              .gt(0)
+              .doc("Radius of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
+          K("points", RealTable, "m")
+              .length(2, 2)
+              .doc("Corners of a polygon in order, as [[x, y], ...] (at least 3); required when "
+                   "shape = \"polygon\"."),
+          K("file", Path)
+              .doc("Geometry file (.geo, .msh, .step, .stl or .off), relative to the scene file; "
+                   "required when shape = \"file\"."),
+          K("orientation", Real, "degrees")
+              .def("0.0")
+              .doc("Rotation of the lattice about the z axis, counter-clockwise."),
+          K("mesh_size", Real, "m")
+              .ge(0)
+              .def("0.0")
+              .doc("Finite-element size for kind = \"fem\"; 0 chooses one automatically."),
+          K("physical", String)
+              .def(R"("")")
+              .doc("For shape = \"file\": the gmsh physical group (a physical surface in 2D, a physical "
+                   "volume in 3D) that is this region, by name; empty: the whole geometry. A closed STL/OFF "
+                   "surface has one region, named after the file."),
+          K("min_boundary_distance", Real, "m")
+              .ge(0)
+              .def("0.0")
+              .doc("For shape = \"file\": keep only particles whose centres lie at least this far inside "
+                   "the boundary; 0 keeps every centre inside (the count is then area or volume × site "
+                   "density), d/2 keeps whole particles inside (as primitive shapes always do)."),
+          K("eccentricity", Choice)
+              .choices(words(kEccentricity))
+              .def(R"("none")")
+              .doc("Eccentric lattice (ECC4D, Zhao et al. 2021): move each particle's centroid by a random "
+                   "offset, uniform in a cube of half-side ra·R (cube, Type A) or uniform on a sphere (a "
+                   "circle in 2D) of radius ra·R (sphere, Type B); bonds stay those of the regular "
+                   "lattice, with their initial lengths as rest lengths (the model starts unloaded). With "
+                   "an eccentric region in the scene every region is bonded within itself only (no bonds "
+                   "between regions)."),
+          K("ra", Real)
+              .ge(0)
+              .lt(1)
+              .def("0.0")
+              .doc("Ra: eccentricity of the centroid offsets, as a fraction of the particle radius R "
+                   "(Zhao et al. 2021)."),
+          K("rc", Real)
+              .gt(0)
+              .le(1)
+              .def("1.0")
+              .doc("Rc: bonds longer than Rc·L_max, with L_max the longest bond of the region, are "
+                   "weakened by gamma (Zhao et al. 2021)."),
+          K("gamma", Real)
+              .gt(0)
+              .le(1)
+              .def("1.0")
+              .doc("γ: stiffness factor of the weakened bonds, k -> γ·k (Zhao et al. 2021 use 0.001)."),
+      }};
+}
+
+RegionTable read_region(const Table& t) {
+  Reader read(t, "region");
+  RegionTable r;
+  r.pos = t.where();
+  read("name", r.name);
+  read("kind", r.kind, kKind);
+  read("material", r.material);
+  read("lattice", r.lattice);
+  read("diameter", r.diameter);
+  read("shape", r.shape, kShape);
+  read("origin", r.origin);
+  read("size", r.size);
+  read("center", r.center);
+  read("radius", r.radius);
+  read("points", r.points);
+  read("file", r.file);
+  read("orientation", r.orientation);
+  read("mesh_size", r.mesh_size);
+  read("physical", r.physical);
+  read("min_boundary_distance", r.min_boundary_distance);
+  read("eccentricity", r.eccentricity, kEccentricity);
+  read("ra", r.ra);
+  read("rc", r.rc);
+  read("gamma", r.gamma);
+  read.done();
+  return r;
+}
+
+}  // namespace strata::scene::tables
+
+namespace strata::scene {
+std::string_view to_string(RegionKind v) { return tables::word_of(tables::kKind, v); }
+std::string_view to_string(RegionShape v) { return tables::word_of(tables::kShape, v); }
+std::string_view to_string(RegionEccentricity v) { return tables::word_of(tables::kEccentricity, v); }
+}  // namespace strata::scene
