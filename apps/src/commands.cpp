@@ -109,7 +109,7 @@ class TerminalObserver final : public scene::RunObserver {
 
 int check_scene(const SceneOptions& opt, bool json_out) {
   const scene::Scene sc = load_scene(opt);
-  if (sc.coupled) return cases::check_coupled_scene(sc, json_out, opt.force);
+  if (sc.coupled) return cases::check_coupled_scene(scene::require_build_parts(sc), json_out, opt.force);
   const scene::BuiltModel m = scene::build_model(sc, opt.force);
   const json j = scene::model_json(m, sc);
   if (json_out)
@@ -158,7 +158,7 @@ int run_scene(const SceneOptions& opt) {
     STRATA_CHECK(opt.restart.empty(), Input,
                  "--restart: {} is a coupled-chain scene ([coupled]); its sweep has no checkpoints",
                  sc.file.string());
-    return cases::run_coupled_scene(sc, opt.output, opt.force, opt.threads);
+    return cases::run_coupled_scene(scene::require_build_parts(sc), opt.output, opt.force, opt.threads);
   }
   scene::Run run(sc, {opt.output, opt.force, opt.restart});
   print_model(run.model_summary());

@@ -1,5 +1,5 @@
 // What a scene asks of the optional parts of strata, against what this build has.
-#include "build_parts.hpp"
+#include <strata/scene/scene.hpp>
 
 #include <fmt/format.h>
 #include <strata/config.hpp>

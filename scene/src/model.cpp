@@ -1,6 +1,5 @@
 #include <strata/scene/model.hpp>
 
-#include "build_parts.hpp"
 #include "model_parts.hpp"
 
 #include <strata/core/error.hpp>

@@ -15,8 +15,6 @@
 #include <cmath>
 #include <map>
 
-#include "build_parts.hpp"
-
 namespace strata::scene {
 
 namespace fs = std::filesystem;

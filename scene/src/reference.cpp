@@ -75,7 +75,8 @@ std::string reference_markdown() {
   auto out = [&md](std::string_view text) { md += text; };
 
   out("# Scene file reference\n\n");
-  out("<!-- Generated from the key declarations in scene/src/tables/ by `strata reference`; do not edit by hand. -->\n\n");
+  out("<!-- Generated from the key declarations in scene/src/tables/ by `strata reference`; do not edit by "
+      "hand. -->\n\n");
   out("A scene is a [TOML](https://toml.io) file. Quantities are in SI units (m, s, kg, N) as listed in the "
       "unit column. Paths are relative to the scene file. Any key can be changed from the command line with "
       "`--set table.key=value`, e.g. `--set solver.dt=1e-8`; entries of a list of tables are addressed by "

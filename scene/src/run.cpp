@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 
-#include "build_parts.hpp"
 #include "cadence.hpp"
 #include "checkpoint.hpp"
 #include "run_output.hpp"

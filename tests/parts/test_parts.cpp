@@ -270,3 +270,35 @@ TEST(Parts, CommandsThatNeedAMissingPartStopFirst) {
   }
   fs::remove_all(d);
 }
+
+TEST(Parts, CoupledWaveGeometryNeedsGmshForCheckAndRun) {
+  if (STRATA_WITH_GMSH) GTEST_SKIP() << "this build has STRATA_WITH_GMSH: nothing to refuse";
+  const fs::path d = temp_dir("parts_wave");
+  std::ofstream(d / "wave.geo") << "Rectangle(1) = {0, 0, 0, 0.01, 0.01};\n";
+  const std::string text = R"([coupled]
+case = "wave"
+geometry = "wave.geo"
+wavelengths = [20]
+eta = [1]
+
+[output]
+directory = "out"
+)";
+  const fs::path f = write(d, "wave.toml", text);
+  expect_refused_at(cli_test::strata("check " + f.string()), f, line_of(text, "geometry = "),
+                    "STRATA_WITH_GMSH", d / "out");
+  expect_refused_at(cli_test::strata("run " + f.string() + " -o " + (d / "out").string()), f,
+                    line_of(text, "geometry = "), "STRATA_WITH_GMSH", d / "out");
+  fs::remove_all(d);
+}
+
+TEST(Parts, CheckRefusesAGeometryFileAtItsLine) {
+  if (STRATA_WITH_GMSH) GTEST_SKIP() << "this build has STRATA_WITH_GMSH: nothing to refuse";
+  const fs::path d = temp_dir("parts_check");
+  std::ofstream(d / "block.geo") << "Rectangle(1) = {0, 0, 0, 0.01, 0.01};\n";
+  const std::string text = block_scene("", "shape = \"file\"\nfile = \"block.geo\"\n");
+  const fs::path f = write(d, "geo.toml", text);
+  expect_refused_at(cli_test::strata("check " + f.string()), f, line_of(text, "file = "), "STRATA_WITH_GMSH",
+                    d / "out");
+  fs::remove_all(d);
+}

@@ -126,4 +126,19 @@ Scene load(const std::filesystem::path& file, const std::vector<std::string>& ov
 Scene parse(const std::string& text, const std::filesystem::path& file,
             const std::vector<std::string>& overrides = {});
 
+/// What a caller is about to do with a scene, for require_build_parts.
+enum class SceneUse {
+  Model,  ///< fill and mesh the regions only (`strata mesh`): geometry files, FEM meshes
+  Run,    ///< build and run it: also the outputs it asks for (frames, pictures, checkpoints)
+};
+
+/// What a scene asks of the optional parts of strata (gmsh, CGAL, HDF5, VTK, rendering),
+/// checked against this build before anything is built or written. Throws strata::Error
+/// (Input) "file:line:col: ..." at the first key the scene writes that needs a part this
+/// build leaves out for `use`, naming the option that turns it on (e.g.
+/// -DSTRATA_WITH_GMSH=ON). A key left at its default is never refused: a build without VTK
+/// writes no frames, one without rendering draws no pictures (the run says so). Returns
+/// `sc`, so that a constructor can check the scene in its initialiser list.
+const Scene& require_build_parts(const Scene& sc, SceneUse use = SceneUse::Run);
+
 }  // namespace strata::scene
