@@ -64,9 +64,12 @@ std::vector<std::string> run_overrides(const CompareOptions& opt, int eta) {
   return o;
 }
 
+/// Gauges and their columns, in file order.
+using GaugeColumns = std::vector<std::pair<std::string, std::vector<std::string>>>;
+
 /// The gauge columns of a probes.csv (<gauge>_ux, _uy, _uz), grouped by gauge in file order.
-std::vector<std::pair<std::string, std::vector<std::string>>> gauge_columns(const io::CsvTable& t) {
-  std::vector<std::pair<std::string, std::vector<std::string>>> out;
+GaugeColumns gauge_columns(const io::CsvTable& t) {
+  GaugeColumns out;
   for (const auto& name : t.names) {
     if (name.size() < 4) continue;
     const std::string tail = name.substr(name.size() - 3);
@@ -179,8 +182,8 @@ json summary(const CompareOptions& opt, const CompareResult& res) {
 
 /// compare.png: gauge error against run time, one marker per η, the reference's run time as a
 /// vertical line. compare_gauges.png: each gauge's largest component over time, every run.
-void plots(const CompareResult& res, const io::CsvTable& ref, const std::map<int, io::CsvTable>& runs,
-           const fs::path& dir) {
+void plots(const CompareResult& res, const io::CsvTable& ref, const GaugeColumns& groups,
+           const std::map<int, io::CsvTable>& runs, const fs::path& dir) {
   io::PlotRequest p;
   p.title = "Gauge error against run time";
   p.x_label = "run time [s]";
@@ -211,7 +214,7 @@ void plots(const CompareResult& res, const io::CsvTable& ref, const std::map<int
   g.title = "Gauge histories";
   g.x_label = fmt::format("time [{}]", t_unit);
   g.y_label = "gauge displacement / largest reference value [-]";
-  for (const auto& [gauge, cols] : gauge_columns(ref)) {
+  for (const auto& [gauge, cols] : groups) {
     // the component with the largest reference value
     std::string col = cols.front();
     double big = -1;
@@ -314,7 +317,7 @@ CompareResult compare_runs(const CompareOptions& opt, CompareObserver& observer)
   res.written = {dir / "compare.csv", dir / "compare.md", dir / "summary.json"};
   if (!opt.no_plot) {
     if (STRATA_WITH_RENDER) {
-      plots(res, ref, tables, dir);
+      plots(res, ref, groups, tables, dir);
       res.written.push_back(dir / "compare.png");
       res.written.push_back(dir / "compare_gauges.png");
     } else {

@@ -113,21 +113,15 @@ void Model<D>::compute_critical_dt() {
   S.clear();
   S.shrink_to_fit();
   const double kmax = max_stiffness();
+  const double imax = *std::max_element(im.begin(), im.end());
   // contacts may form later: a particle touching z neighbours (6 in 2D, 12 in 3D)
   // through contacts of stiffness <= kmax has λ <= 2·z·kmax/m (same bound)
-  double contact_bound = 0;
-  if (contacts_on) {
-    const double imax = *std::max_element(im.begin(), im.end());
-    contact_bound = 2.0 * (D == 2 ? 6 : 12) * kmax * imax;
-  }
+  const double contact_bound = contacts_on ? 2.0 * (D == 2 ? 6 : 12) * kmax * imax : 0.0;
   // rigid walls: a particle pressed against walls adds k_w·n nᵀ to its diagonal block, a
   // positive semi-definite term, which raises λ by at most Σ_w k_w / m_min (Weyl's
   // inequality); any particle may meet a wall later, so every wall counts from the start
   double wall_lambda = 0;
-  if (!walls.empty()) {
-    const double imax = *std::max_element(im.begin(), im.end());
-    for (const Wall& w : walls) wall_lambda += w.k * imax;
-  }
+  for (const Wall& w : walls) wall_lambda += w.k * imax;
   lam_bound = bound;
   lam_est = npairs > 0 ? lanczos() : 0.0;
   double lam = npairs > 0 ? std::min(bound, 1.01 * lam_est) : contact_bound;

@@ -93,7 +93,7 @@ void Model<D>::check_dt() {
   if (!initialised && dt_crit == 0) return;  // checked by initialise()
   if (settings.dt > dt_crit) {
     const auto [dt_text, crit_text] = distinct_pair(settings.dt, dt_crit);
-    const std::string ratio = distinct_pair(settings.dt / dt_crit, 1.0, 4).first;
+    const std::string ratio = ratio_text(settings.dt, dt_crit);
     if (!settings.allow_unstable)
       fail(ErrorKind::Numerical,
            "dt = {} s exceeds the critical time step {} s (ratio {}); lower dt or set allow_unstable",

@@ -1,5 +1,6 @@
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
+#include <strata/core/numbers.hpp>
 #include <strata/fem/solver.hpp>
 #include <strata/fem/stability.hpp>
 
@@ -129,11 +130,12 @@ void Solver::check_dt() {
   const SolverSettings& s = settings_;
   stability();
   if (!(s.dt > stab_.dt_crit)) return;
+  const auto [dt_text, crit_text] = distinct_pair(s.dt, stab_.dt_crit);
   const std::string what = fmt::format(
-      "FEM dt = {:.4g} s exceeds the critical time step {:.4g} s of the {} scheme (ratio {:.3f}; ω_max <= "
+      "FEM dt = {} s exceeds the critical time step {} s of the {} scheme (ratio {}; ω_max <= "
       "{:.4g} "
       "rad/s from element eigenvalues{})",
-      s.dt, stab_.dt_crit, to_string(s.scheme), s.dt / stab_.dt_crit, stab_.omega_bound,
+      dt_text, crit_text, to_string(s.scheme), ratio_text(s.dt, stab_.dt_crit), stab_.omega_bound,
       s.rayleigh_alpha > 0 || s.rayleigh_beta > 0 ? ", with Rayleigh damping" : "");
   if (!s.allow_unstable)
     fail(ErrorKind::Input,
@@ -281,10 +283,7 @@ void Solver::step() {
       const double fnew = sys_.K.row(static_cast<Eigen::Index>(p.dof)).dot(u_);
       const double dw = 0.5 * (fnew + work_force_prev_[k]) * (unew - work_u_prev_[k]);
       work_abs_ += std::abs(dw);
-      if (p.exchange)
-        exchange_work_abs_ += std::abs(dw);
-      else
-        user_work_ += dw;
+      if (!p.exchange) user_work_ += dw;
       work_force_prev_[k] = fnew;
       work_u_prev_[k] = unew;
     }

@@ -39,7 +39,6 @@ void Solver::save_state(StateWriter& out, const std::string& prefix) const {
   out.put(prefix + "prescribed", pre);
   out.put_scalar<double>(prefix + "energy0", energy0_);
   out.put_scalar<double>(prefix + "work_abs", work_abs_);
-  out.put_scalar<double>(prefix + "exchange_work_abs", exchange_work_abs_);
   out.put_scalar<double>(prefix + "user_work", user_work_);
   out.put(prefix + "work_force_prev", work_force_prev_);
   out.put(prefix + "work_u_prev", work_u_prev_);
@@ -62,7 +61,6 @@ void Solver::load_state(const StateReader& in, const std::string& prefix) {
   }
   energy0_ = in.get_scalar<double>(prefix + "energy0");
   work_abs_ = in.get_scalar<double>(prefix + "work_abs");
-  exchange_work_abs_ = in.get_scalar<double>(prefix + "exchange_work_abs");
   user_work_ = in.get_scalar<double>(prefix + "user_work");
   work_force_prev_ = in.get<double>(prefix + "work_force_prev", work_force_prev_.size());
   work_u_prev_ = in.get<double>(prefix + "work_u_prev", work_u_prev_.size());

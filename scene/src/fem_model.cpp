@@ -3,6 +3,7 @@
 // its time step, and the coupling with the particles through the overlap layers.
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
+#include <strata/core/numbers.hpp>
 #include <strata/fem/mesh.hpp>
 #include <strata/fem/solver.hpp>
 #include <strata/preprocess/overlap.hpp>
@@ -261,14 +262,16 @@ BuiltModel build_fem_only(const Scene& sc, bool force) {
   s.set_dt(dt);
   m.fem_dt_crit = s.stability().dt_crit;
   m.dt_crit = m.fem_dt_crit;
-  if (dt > m.fem_dt_crit && !fs.allow_unstable)
+  if (dt > m.fem_dt_crit && !fs.allow_unstable) {
+    const auto [dt_text, crit_text] = distinct_pair(dt, m.fem_dt_crit);
     solver.dt.fail(
-        fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the FEM regions with "
-                    "the {} integrator (dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= "
+        fmt::format("dt = {} s exceeds the critical time step {} s of the FEM regions with "
+                    "the {} integrator (dt/dt_crit = {}); the run would blow up. Allowed: dt <= "
                     "{:.4g} s, fem_integrator = \"implicit-newmark\" (unconditionally stable), or "
                     "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
-                    dt, m.fem_dt_crit, fem::to_string(s.settings().scheme), dt / m.fem_dt_crit, m.fem_dt_crit,
-                    solver.dt_safety.value));
+                    dt_text, crit_text, fem::to_string(s.settings().scheme), ratio_text(dt, m.fem_dt_crit),
+                    m.fem_dt_crit, solver.dt_safety.value));
+  }
   s.initialise();
   m.dt = dt;
   m.steps = step_count_of(solver, m.dt, 1);
@@ -432,13 +435,15 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
         fem::is_explicit(fem::scheme_from_string(solver.fem_integrator.value)))
       dt = std::min(dt, solver.dt_safety * m.fem_explicit_dt_crit / eta);
   }
-  if (dt > m.dt_crit && !ds.allow_unstable)
+  if (dt > m.dt_crit && !ds.allow_unstable) {
+    const auto [dt_text, crit_text] = distinct_pair(dt, m.dt_crit);
     solver.dt.fail(
-        fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of the particles (the "
-                    "overlap's external particles held; dt/dt_crit = {:.3f}); the run would blow up. "
+        fmt::format("dt = {} s exceeds the critical time step {} s of the particles (the "
+                    "overlap's external particles held; dt/dt_crit = {}); the run would blow up. "
                     "Allowed: dt <= {:.4g} s, or dt = 0 for {} x dt_crit; solver.allow_unstable = "
                     "true or --force runs anyway",
-                    dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.dt_safety.value));
+                    dt_text, crit_text, ratio_text(dt, m.dt_crit), m.dt_crit, solver.dt_safety.value));
+  }
   // The exchange itself: copies η·dt apart drive the particles' side like a step of η·dt.
   // Measured on the tunnel example (interpolated overlap): stable at η·dt = 0.6·dt_crit, growing
   // without bound at 0.9 and above; strata refuses more than kExchangeLimit·dt_crit.

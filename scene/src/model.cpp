@@ -4,6 +4,7 @@
 
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
+#include <strata/core/numbers.hpp>
 #include <strata/preprocess/ecc.hpp>
 #include <strata/preprocess/fill.hpp>
 #include <strata/preprocess/geometry.hpp>
@@ -589,12 +590,14 @@ BuiltModel build_model(const Scene& sc, bool force) {
   sim.initialise();
   m.dt_crit = sim.critical_dt();
   const double dt = m.dt_automatic ? solver.dt_safety * m.dt_crit : solver.dt;
-  if (dt > m.dt_crit && !set.allow_unstable)
+  if (dt > m.dt_crit && !set.allow_unstable) {
+    const auto [dt_text, crit_text] = distinct_pair(dt, m.dt_crit);
     solver.dt.fail(
-        fmt::format("dt = {:.4g} s exceeds the critical time step {:.4g} s of this model "
-                    "(dt/dt_crit = {:.3f}); the run would blow up. Allowed: dt <= {:.4g} s, or "
+        fmt::format("dt = {} s exceeds the critical time step {} s of this model "
+                    "(dt/dt_crit = {}); the run would blow up. Allowed: dt <= {:.4g} s, or "
                     "dt = 0 for {} x dt_crit; solver.allow_unstable = true or --force runs anyway",
-                    dt, m.dt_crit, dt / m.dt_crit, m.dt_crit, solver.dt_safety.value));
+                    dt_text, crit_text, ratio_text(dt, m.dt_crit), m.dt_crit, solver.dt_safety.value));
+  }
   sim.set_dt(dt);  // warns when above dt_crit and allowed
   m.dt = sim.dt();
   m.steps = step_count_of(solver, m.dt, 1);

@@ -44,7 +44,7 @@ struct Run::Impl {
   fs::path dir;
 
   Impl(const Scene& scene, RunOptions options)
-      : sc(require_build_parts(scene)), opt(std::move(options)), m(build_model(sc, opt.force)) {
+      : sc(scene), opt(std::move(options)), m(build_model(sc, opt.force)) {
     const OutputTable& o = sc.output;
     if (!STRATA_WITH_HDF5 && !opt.restart.empty())
       fail_missing_feature("STRATA_WITH_HDF5", "checkpoints (--restart)");

@@ -87,4 +87,7 @@ TEST(Numbers, ComparedValuesNeverPrintAlike) {
   EXPECT_EQ(strata::distinct_pair(2.0, 3.0), (std::pair<std::string, std::string>{"2", "3"}));
   EXPECT_EQ(strata::distinct_pair(1.5e-7, 1.5e-7).first, "1.5e-07");
   EXPECT_EQ(strata::distinct_pair(above / crit, 1.0).second, "1");
+  EXPECT_EQ(strata::ratio_text(3.0, 2.0), "1.500");
+  EXPECT_NE(strata::ratio_text(above, crit), "1.000");  // just above 1 reads above 1
+  EXPECT_EQ(strata::ratio_text(crit, crit), "1.000");
 }

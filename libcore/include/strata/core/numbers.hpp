@@ -18,4 +18,13 @@ inline std::pair<std::string, std::string> distinct_pair(double a, double b, int
   return {fmt::format("{:.17g}", a), fmt::format("{:.17g}", b)};
 }
 
+/// a/b with three decimals ("1.500"), or with the digits that show it above 1 when a is
+/// just above b ("1.0000000000000002" rather than "1.000").
+inline std::string ratio_text(double a, double b) {
+  const double r = a / b;
+  std::string s = fmt::format("{:.3f}", r);
+  if (r > 1 && s == "1.000") s = distinct_pair(r, 1.0).first;
+  return s;
+}
+
 }  // namespace strata

@@ -84,7 +84,7 @@ class Solver {
   /// Makes DOF `d` driven from outside, starting at u, v (see set_prescribed).
   void prescribe(std::size_t d, double u = 0, double v = 0);
   /// Marks a prescribed DOF as driven by another partition of a coupled model: the work done
-  /// through it is energy exchanged inside the model, booked apart (exchange_work_bound()).
+  /// through it is energy exchanged inside the model, left out of user_work().
   void mark_exchange(std::size_t d);
   /// Adds a nodal force f(t) (N) on DOF `d`.
   void add_load(std::size_t d, std::function<double(double)> f);
@@ -125,8 +125,6 @@ class Solver {
   double strain_energy() const;
   /// Σ |work| done on the model by loads and prescribed DOFs so far (J).
   double work_bound() const { return work_abs_; }
-  /// The part of work_bound() done through DOFs marked with mark_exchange() (J).
-  double exchange_work_bound() const { return exchange_work_abs_; }
   /// Work done on the model by loads and the prescribed DOFs not marked with
   /// mark_exchange(), with its sign (J): what an energy balance of a coupled model counts as
   /// input (an oscillating reaction does no net work, where work_bound() counts every swing).
@@ -178,7 +176,7 @@ class Solver {
   double time_ = 0;
   std::int64_t step_ = 0, last_good_ = 0;
   bool initialised_ = false;
-  double energy0_ = 0, work_abs_ = 0, exchange_work_abs_ = 0, user_work_ = 0, energy_tiny_ = 0;
+  double energy0_ = 0, work_abs_ = 0, user_work_ = 0, energy_tiny_ = 0;
   std::vector<double> work_force_prev_, work_u_prev_;  // per load then per prescribed DOF
 };
 

@@ -191,7 +191,8 @@ struct BuiltModel {
 
 /// Builds and initialises the model: particle regions, FEM regions, and the overlap layers
 /// where a particle region meets an FEM region of the same geometry file. Throws
-/// strata::Error: Input (exit 2, at the scene key) for scenes that cannot be built, and for
+/// strata::Error: Input (exit 2, at the scene key) for keys that need an optional part this
+/// build leaves out (require_build_parts, checked first), for scenes that cannot be built, and for
 /// dt above the critical step of any part unless allowed (`force` or solver.allow_unstable).
 BuiltModel build_model(const scene::Scene& sc, bool force);
 
