@@ -15,7 +15,7 @@ using namespace strata;
 
 namespace {
 // The solid-lattice rock of Liu, Pollard & Shi (2013) for 1 mm disks.
-dem::Material lattice_rock() { return dem::spec_c1_rock(); }
+dem::Material lattice_rock() { return dem::liu2013_rock(); }
 
 // The solid-lattice law alone on a stream of intact pairs (the hot path of the step loop).
 void BM_SolidLatticeLawIntact(benchmark::State& state) {

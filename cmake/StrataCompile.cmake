@@ -7,6 +7,22 @@ target_compile_options(strata_compile_options INTERFACE
 if(STRATA_NATIVE)
   target_compile_options(strata_compile_options INTERFACE $<$<CXX_COMPILER_ID:GNU,Clang>:-march=native>)
 endif()
+# strata's code is linked statically into its programs, and a program must not offer its own
+# copies of header-only code (Eigen, fmt, VTK's inline functions, ...) to the shared libraries
+# it loads: the dynamic linker would bind a library's calls to them (gmsh calling an Eigen
+# kernel strata compiled with -march=native and 64-byte alignment crashed on gmsh's 16-byte
+# aligned buffers). Hidden visibility keeps every symbol strata compiles inside its program;
+# --exclude-libs does the same for what comes from static archives. tests/install checks
+# that `strata` exports nothing.
+target_compile_options(strata_compile_options INTERFACE
+  "$<BUILD_INTERFACE:$<$<CXX_COMPILER_ID:GNU,Clang>:-fvisibility=hidden;-fvisibility-inlines-hidden>>")
+target_link_options(strata_compile_options INTERFACE
+  $<BUILD_INTERFACE:$<$<AND:$<CXX_COMPILER_ID:GNU,Clang>,$<PLATFORM_ID:Linux>>:LINKER:--exclude-libs,ALL>>)
+# GCC 12's AVX-512 intrinsics warn inside the compiler's own header (see the header).
+if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+  target_compile_options(strata_compile_options INTERFACE
+    $<BUILD_INTERFACE:-include${PROJECT_SOURCE_DIR}/cmake/quiet_intrinsics.hpp>)
+endif()
 if(STRATA_SANITIZE)
   target_compile_options(strata_compile_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer
                          -fno-sanitize-recover=undefined)

@@ -31,7 +31,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
 
   // The micro-parameters of Liu, Pollard & Shi 2013 for 1 mm disks; 3D uses the same springs with ρ in kg/m³.
   const double d = 1e-3;
-  const dem::Material m = dem::spec_c1_rock();
+  const dem::Material m = dem::liu2013_rock();
   dem::Settings s;
   s.dt = 1e-15;  // replaced by 0.5·critical_dt below
   s.damping = dem::Settings::Damping::Viscous;

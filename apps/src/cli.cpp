@@ -9,9 +9,12 @@
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
+#include <strata/preprocess/geometry.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <string_view>
 
 #include <strata/cases/chain_report.hpp>
 #include <strata/cases/wave_report.hpp>
@@ -28,10 +31,36 @@ namespace {
 
 std::string version_text() {
   std::string s = fmt::format("strata {}\noptional parts:", STRATA_VERSION);
-  for (const auto& f : config::kFeatures)
+  for (const auto& f : config::kFeatures) {
     s += fmt::format("\n  {:<20} {:<3} {}", f.option, f.enabled ? "on" : "off", f.what);
+    // the gmsh library's own version: which .geo syntax this build reads
+    if (f.enabled && std::string_view(f.option) == "STRATA_WITH_GMSH")
+      s += fmt::format(", gmsh {}", preprocess::gmsh_version());
+  }
   return s;
 }
+
+/// A number above `lo` (or at least `lo` when `inclusive`): CLI11's own PositiveNumber and
+/// NonNegativeNumber print their range as the 309 digits of the largest double.
+CLI::Validator number_from(double lo, bool inclusive) {
+  const std::string what = fmt::format("NUMBER {} {}", inclusive ? ">=" : ">", lo);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double x = 0;
+        if (!CLI::detail::lexical_cast(text, x)) return fmt::format("{} is not a number", text);
+        if (std::isfinite(x) && (inclusive ? x >= lo : x > lo)) return "";
+        return fmt::format("{} must be a finite number {} {}", text, inclusive ? ">=" : ">", lo);
+      },
+      what);
+}
+const CLI::Validator kPositive = number_from(0, false), kNonNegative = number_from(0, true);
+
+/// -o "" is a mistake (an unset shell variable, say), not a request for the default folder.
+const CLI::Validator kDirectory(
+    [](std::string& text) -> std::string {
+      return text.empty() ? "an empty path: name one, or leave the option out for the default" : "";
+    },
+    "DIR");
 
 }  // namespace
 
@@ -40,7 +69,7 @@ int main(int argc, char** argv) {
       "strata — bonded-particle DEM, FEM and coupled models of how rock breaks.\n"
       "Scene files (TOML) describe the model; see docs/scene-reference.md.",
       "strata"};
-  app.set_version_flag("--version", version_text());
+  app.set_version_flag("--version", std::function<std::string()>(version_text));  // gmsh only when asked
   app.require_subcommand(1);
   app.fallthrough();
   bool verbose = false, quiet = false;
@@ -56,7 +85,8 @@ int main(int argc, char** argv) {
   auto* run =
       app.add_subcommand("run", "Run a scene: build the model, simulate, write series, probes and pictures");
   run->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
-  run->add_option("-o,--output", opt.output, "Output directory (default: [output] directory of the scene)");
+  run->add_option("-o,--output", opt.output, "Output directory (default: [output] directory of the scene)")
+      ->check(kDirectory);
   run->add_option("--threads", opt.threads, "Threads for parallel loops (default: [solver] threads, 0 = all)")
       ->check(CLI::Range(0, par::kMaxThreads));
   run->add_option("--set", opt.overrides,
@@ -95,6 +125,7 @@ int main(int argc, char** argv) {
       app.add_subcommand("mesh", "Build the model only and report counts, packing density and time taken");
   mesh->add_option("scene", opt.scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   mesh->add_option("-o,--output", opt.output, "Directory for the model files (default: none written)")
+      ->check(kDirectory)
       ->check(needs_part("STRATA_WITH_VTK", "writing the model files (VTK series)"));
   mesh->add_option("--set", opt.overrides, "Override a scene key: KEY=VALUE (repeatable)")->take_all();
   mesh->add_flag("--json", mesh_json, "Print one JSON object");
@@ -107,9 +138,8 @@ int main(int argc, char** argv) {
   auto* bdem = bench->add_subcommand("dem", "DEM stepping rate of a lattice block under slow compression");
   bdem->add_option("--dim", bopt.dim, "2 (hexagonal disks) or 3 (close-packed spheres)")
       ->check(CLI::IsMember({2, 3}));
-  bdem->add_option("--particles", bopt.particles, "Approximate number of particles")
-      ->check(CLI::PositiveNumber);
-  bdem->add_option("--steps", bopt.steps, "Time steps to time")->check(CLI::PositiveNumber);
+  bdem->add_option("--particles", bopt.particles, "Approximate number of particles")->check(kPositive);
+  bdem->add_option("--steps", bopt.steps, "Time steps to time")->check(kPositive);
   bdem->add_option("--threads", bopt.threads, "Threads (0 = all)")->check(CLI::Range(0, par::kMaxThreads));
   bdem->add_option("--lattice", bopt.lattice, "3D lattice: hcp or fcc")->check(CLI::IsMember({"hcp", "fcc"}));
   bdem->footer("Example:\n  strata bench dem --dim 2 --particles 1000000 --steps 200 --threads 2");
@@ -123,7 +153,8 @@ int main(int argc, char** argv) {
                    "Particle series (.pvd) written by 'strata run', or a FEM series (.vtu frames)")
       ->required()
       ->check(CLI::ExistingFile);
-  render->add_option("-o,--output", ropt.output, "Directory for the PNG frames (default: <series dir>/png)");
+  render->add_option("-o,--output", ropt.output, "Directory for the PNG frames (default: <series dir>/png)")
+      ->check(kDirectory);
   render->add_option("--field", ropt.field,
                      "Array to colour by (default: damage for particles, displacement for a FEM series)");
   render->add_option("--size", ropt.size, "Picture size in pixels: W H")->expected(2);
@@ -156,28 +187,26 @@ int main(int argc, char** argv) {
   report->add_option("case", rep.case_name, "chain6, metamaterial or wave")
       ->required()
       ->check(CLI::IsMember({"chain6", "metamaterial", "wave"}));
-  report->add_option("-o,--output", rep.output, "Directory for <case>_sweep.{csv,md,png}");
+  report->add_option("-o,--output", rep.output, "Directory for <case>_sweep.{csv,md,png}")->check(kDirectory);
   auto* report_eta =
       report->add_option("--eta", rep.etas, "Time-step ratios (integers >= 1; wave default 1 2 4 5 10)")
-          ->check(CLI::PositiveNumber);
+          ->check(kPositive);
   report->add_option("--modes", rep.modes, "serial, parallel or both")
       ->check(CLI::IsMember({"serial", "parallel", "both"}));
   report->add_option("--dt-dem", rep.dt_dem, "DEM step (s); default 1e-4 (chain6), 5e-5 (metamaterial)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   report
       ->add_option("--duration", rep.duration,
                    "Simulated time (s); default 20 (chain6), 0.075 (metamaterial)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(kNonNegative);
   report
       ->add_option("--fem-scheme", rep.fem_scheme, "central-difference, explicit-newmark or implicit-newmark")
       ->check(CLI::IsMember({"central-difference", "explicit-newmark", "pc-newmark", "implicit-newmark"}));
-  report->add_option("--dt-ref", rep.dt_ref, "Reference step of the metamaterial case (s)")
-      ->check(CLI::PositiveNumber);
+  report->add_option("--dt-ref", rep.dt_ref, "Reference step of the metamaterial case (s)")->check(kPositive);
   report->add_option("--pulse", rep.pulse_amplitude, "Metamaterial half-sine pulse amplitude (N)");
   report->add_option("--pulse-duration", rep.pulse_duration, "Metamaterial pulse duration (s)")
-      ->check(CLI::PositiveNumber);
-  report->add_option("--repeats", rep.repeats, "Runs per point; the fastest is reported")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
+  report->add_option("--repeats", rep.repeats, "Runs per point; the fastest is reported")->check(kPositive);
   report->add_flag("--check", rep.check_only, "Only check the time step (exit 2 when unstable)");
   report->add_flag("--no-plot", rep.no_plot, "Do not write the PNG plot");
   cases::WaveOptions wave;  // `report wave` only
@@ -188,7 +217,7 @@ int main(int argc, char** argv) {
   report->add_option("--particle-region", wave.particle_region, "wave: physical group filled with particles");
   report->add_option("--fem-region", wave.fem_region, "wave: physical group meshed for the FEM");
   report->add_option("--wavelengths", wave.wavelengths, "wave: pulse lengths c*T in particle diameters")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   report
       ->add_option("--dt-fraction", wave.dt_fraction,
                    "wave: dt_DEM as a fraction of the lattice's critical step")
@@ -205,10 +234,10 @@ int main(int argc, char** argv) {
   report
       ->add_option("--frames", wave.frames,
                    "wave: VTK frames of one extra run in DIR/series (0: none; 12, quick 3)")
-      ->check(CLI::NonNegativeNumber)
+      ->check(kNonNegative)
       ->check(needs_part("STRATA_WITH_VTK", "a VTK series of the wave", "0"));
   report->add_option("--series-eta", wave.series_eta, "wave: eta of the series run (serial, longest pulse)")
-      ->check(CLI::PositiveNumber);
+      ->check(kPositive);
   report->footer(
       "Examples:\n  strata report chain6 -o out/chain6\n  strata report metamaterial --dt-dem 1e-4 --check\n"
       "  strata report wave -o out/wave --wavelengths 10 20 40\n"
@@ -229,7 +258,8 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   compare->add_option("--eta", cmp.etas, "Time-step ratios (integers >= 1; default: the scene's solver.eta)")
       ->check(CLI::Range(1, 1 << 20));
-  compare->add_option("-o,--output", cmp.output, "Directory for compare.{csv,md,png} and the runs");
+  compare->add_option("-o,--output", cmp.output, "Directory for compare.{csv,md,png} and the runs")
+      ->check(kDirectory);
   compare->add_option("--set", cmp.overrides, "Override a key of both scenes: KEY=VALUE (repeatable)")
       ->take_all();
   compare->add_option("--repeats", cmp.repeats, "Runs per point; the fastest is reported")
@@ -250,7 +280,8 @@ int main(int argc, char** argv) {
   std::string ref_out;
   auto* reference =
       app.add_subcommand("reference", "Print the scene-file reference (docs/scene-reference.md)");
-  reference->add_option("-o,--output", ref_out, "Write to this file instead of standard output");
+  reference->add_option("-o,--output", ref_out, "Write to this file instead of standard output")
+      ->check(kDirectory);
   reference->footer("Example:\n  strata reference -o docs/scene-reference.md");
 
   try {

@@ -178,6 +178,15 @@ int run_scene(const SceneOptions& opt) {
     std::fflush(stdout);
     return 128 + sig;
   }
+  if (r.status == scene::RunStatus::PicturesInterrupted) {
+    std::printf(
+        "run completed (%lld steps, every file written); drawing the pictures was interrupted by SIG%s:\n"
+        "  the pictures drawn so far are in %s; draw them all with: strata render %s\n",
+        (long long)r.step, sigabbrev_np(r.stop_reason), (r.directory / "png").string().c_str(),
+        (r.directory / (m.has_particles() ? "particles.pvd" : "fem.pvd")).string().c_str());
+    std::fflush(stdout);
+    return 128 + r.stop_reason;
+  }
   if (m.has_particles())
     log::info("{} steps in {} ({:.3g} particle-steps/s); {} bonds broken ({} tension, {} shear)",
               r.step - r.first_step, format_duration(r.wall_seconds), r.particle_steps_per_s,

@@ -1,6 +1,7 @@
 // Checkpoint files in HDF5 (see strata/io/checkpoint.hpp).
 #include "strata/io/checkpoint.hpp"
 
+#include <fmt/format.h>
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>
 
@@ -13,6 +14,7 @@
 #endif
 
 #include <algorithm>
+#include <cctype>
 #include <vector>
 
 namespace strata::io {
@@ -24,7 +26,18 @@ namespace {
 
 /// Value of the root attribute "format": what tells a checkpoint from other HDF5 files.
 constexpr const char* kFormatName = "strata checkpoint";
-constexpr std::int64_t kFormatVersion = 1;
+/// Format 2: HDF5 1.10 file format (checksummed metadata) and Fletcher32 on every chunk.
+constexpr std::int64_t kFormatVersion = 2;
+
+/// Elements per chunk of a data set (at most): 8 MiB of doubles, well under HDF5's 4 GiB
+/// limit on a chunk. The verification at opening reads in pieces of this size too.
+constexpr hsize_t kChunkElements = hsize_t{1} << 20;
+
+/// Members of a group (and attributes) kept in its object header, at most (HDF5's limit).
+constexpr unsigned kMaxCompact = 65535;
+
+/// Groups nested deeper than this are refused (strata writes a few levels).
+constexpr int kMaxDepth = 64;
 
 /// Closes an HDF5 handle when it goes out of scope.
 class Handle {
@@ -56,6 +69,38 @@ void quiet_hdf5() {
     return true;
   }();
   (void)done;
+}
+
+/// What HDF5 reported about the call that just failed (read from its error stack, which
+/// the next HDF5 call clears): whether a checksum did not match, and the innermost message.
+struct Hdf5Failure {
+  bool checksum = false;
+  std::string detail;
+};
+
+Hdf5Failure last_failure() {
+  Hdf5Failure f;
+  const auto walk = [](unsigned, const H5E_error2_t* e, void* data) -> herr_t {
+    auto& out = *static_cast<Hdf5Failure*>(data);
+    std::string desc = e->desc ? e->desc : "";
+    if (desc.empty()) return 0;
+    std::string lower = desc;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (lower.find("checksum") != std::string::npos) out.checksum = true;
+    out.detail = std::move(desc);  // walking downward: the last one is where it was detected
+    return 0;
+  };
+  H5Ewalk2(H5E_DEFAULT, H5E_WALK_DOWNWARD, walk, &f);
+  return f;
+}
+
+/// The message for a part of checkpoint `file` that cannot be read.
+std::string damage_message(const fs::path& file, const std::string& part, const Hdf5Failure& f) {
+  const std::string why =
+      f.checksum ? "fails its checksum" : "cannot be read" + (f.detail.empty() ? "" : " (" + f.detail + ")");
+  return fmt::format("checkpoint {} is damaged: {} {}; the file changed after it was written", file.string(),
+                     part, why);
 }
 
 hid_t native_type(StateType t) {
@@ -98,9 +143,16 @@ void put_number_attr(hid_t obj, const char* name, T value, hid_t type, const fs:
                name, file.string());
 }
 
+/// Throws unless `obj` has attribute `name`; a header that cannot be read is damage.
+void require_attr(hid_t obj, const char* name, const fs::path& file) {
+  const htri_t exists = H5Aexists(obj, name);
+  if (exists < 0)
+    fail(ErrorKind::IO, "{}", damage_message(file, "the header of the root group", last_failure()));
+  STRATA_CHECK(exists > 0, IO, "{} is not a strata checkpoint (no attribute '{}')", file.string(), name);
+}
+
 std::string get_string_attr(hid_t obj, const char* name, const fs::path& file) {
-  STRATA_CHECK(H5Aexists(obj, name) > 0, IO, "{} is not a strata checkpoint (no attribute '{}')",
-               file.string(), name);
+  require_attr(obj, name, file);
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
   Handle stored(H5Aget_type(attr.get()), H5Tclose);
   STRATA_CHECK(stored.ok() && H5Tget_class(stored.get()) == H5T_STRING && !H5Tis_variable_str(stored.get()),
@@ -118,14 +170,104 @@ std::string get_string_attr(hid_t obj, const char* name, const fs::path& file) {
 
 template <typename T>
 T get_number_attr(hid_t obj, const char* name, hid_t type, const fs::path& file) {
-  STRATA_CHECK(H5Aexists(obj, name) > 0, IO, "{} is not a strata checkpoint (no attribute '{}')",
-               file.string(), name);
+  require_attr(obj, name, file);
   Handle attr(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose);
   T value{};
   STRATA_CHECK(attr.ok() && H5Aread(attr.get(), type, &value) >= 0, IO, "{}: cannot read attribute '{}'",
                file.string(), name);
   return value;
 }
+
+/// Reads every data set of a checkpoint once, so that HDF5 checks every checksum of the file
+/// (the metadata ones as it loads object headers and indexes, Fletcher32 on every chunk).
+class Verifier {
+ public:
+  explicit Verifier(const fs::path& file) : file_(file) {}
+
+  /// Empty when every part of the file was read back; else what is damaged.
+  std::string run(hid_t root) {
+    group(root, "");
+    return failed_;
+  }
+
+ private:
+  void group(hid_t g, const std::string& name) {
+    if (depth_ >= kMaxDepth) {
+      failed_ = fmt::format("{} is not a strata checkpoint (groups nested deeper than {})", file_.string(),
+                            kMaxDepth);
+      return;
+    }
+    const std::string saved = prefix_;
+    prefix_ = name;
+    ++depth_;
+    hsize_t idx = 0;
+    const herr_t r = H5Literate(g, H5_INDEX_NAME, H5_ITER_NATIVE, &idx, &Verifier::member, this);
+    if (r < 0 && failed_.empty())
+      failed_ = damage_message(
+          file_, name.empty() ? "the root group's member list" : "the member list of '" + name + "'",
+          last_failure());
+    --depth_;
+    prefix_ = saved;
+  }
+
+  static herr_t member(hid_t g, const char* name, const H5L_info_t* info, void* self) {
+    auto& v = *static_cast<Verifier*>(self);
+    if (info->type != H5L_TYPE_HARD) return 0;  // strata writes none; they hold no data here
+    const std::string full = v.prefix_.empty() ? std::string(name) : v.prefix_ + "/" + name;
+    Handle obj(H5Oopen(g, name, H5P_DEFAULT), H5Oclose);
+    if (!obj.ok()) {
+      v.failed_ = damage_message(v.file_, "the header of '" + full + "'", last_failure());
+      return -1;
+    }
+    switch (H5Iget_type(obj.get())) {
+      case H5I_GROUP:
+        v.group(obj.get(), full);
+        break;
+      case H5I_DATASET:
+        v.dataset(obj.get(), full);
+        break;
+      default:
+        break;
+    }
+    return v.failed_.empty() ? 0 : -1;
+  }
+
+  void dataset(hid_t set, const std::string& name) {
+    Handle type(H5Dget_type(set), H5Tclose);
+    Handle space(H5Dget_space(set), H5Sclose);
+    if (!type.ok() || !space.ok()) {
+      failed_ = damage_message(file_, "the header of '" + name + "'", last_failure());
+      return;
+    }
+    const H5T_class_t cls = H5Tget_class(type.get());
+    if ((cls != H5T_INTEGER && cls != H5T_FLOAT) || H5Sget_simple_extent_ndims(space.get()) != 1) {
+      failed_ = fmt::format("{} is not a strata checkpoint ('{}' is not a 1-D array of numbers)",
+                            file_.string(), name);
+      return;
+    }
+    hsize_t dims[1] = {0};
+    H5Sget_simple_extent_dims(space.get(), dims, nullptr);
+    const std::size_t size = H5Tget_size(type.get());
+    for (hsize_t start = 0; start < dims[0]; start += kChunkElements) {
+      const hsize_t n = std::min(kChunkElements, dims[0] - start);
+      scratch_.resize(std::max<std::size_t>(scratch_.size(), n * size));
+      Handle mem(H5Screate_simple(1, &n, nullptr), H5Sclose);
+      const bool ok = mem.ok() &&
+                      H5Sselect_hyperslab(space.get(), H5S_SELECT_SET, &start, nullptr, &n, nullptr) >= 0 &&
+                      H5Dread(set, type.get(), mem.get(), space.get(), H5P_DEFAULT, scratch_.data()) >= 0;
+      if (!ok) {
+        failed_ = damage_message(file_, "data set '" + name + "'", last_failure());
+        return;
+      }
+    }
+  }
+
+  fs::path file_;
+  std::string prefix_;
+  std::string failed_;
+  int depth_ = 0;
+  std::vector<unsigned char> scratch_;
+};
 
 }  // namespace
 
@@ -148,7 +290,20 @@ CheckpointWriter::CheckpointWriter(const fs::path& path, const CheckpointInfo& i
   quiet_hdf5();
   detail::make_parent(path_);
   impl_->tmp = detail::temp_path(path_);
-  impl_->file = H5Fcreate(impl_->tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  // the 1.10 file format: the superblock, the object headers (with the attributes and the
+  // group members) and the chunk indexes all carry checksums
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  STRATA_CHECK(fapl.ok() && H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V110, H5F_LIBVER_LATEST) >= 0, IO,
+               "cannot create checkpoint {}: this HDF5 library cannot write the 1.10 file format",
+               impl_->tmp.string());
+  // every group keeps its member list in its object header, and the root group its
+  // attributes, rather than in heaps and B-trees whose nodes have bytes outside any checksum
+  // (groups made on the way inherit this from the root group)
+  Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose);
+  STRATA_CHECK(fcpl.ok() && H5Pset_link_phase_change(fcpl.get(), kMaxCompact, kMaxCompact) >= 0 &&
+                   H5Pset_attr_phase_change(fcpl.get(), kMaxCompact, kMaxCompact) >= 0,
+               IO, "cannot create checkpoint {}: HDF5 refuses the group settings", impl_->tmp.string());
+  impl_->file = H5Fcreate(impl_->tmp.c_str(), H5F_ACC_TRUNC, fcpl.get(), fapl.get());
   STRATA_CHECK(impl_->file >= 0, IO, "cannot create checkpoint {}", impl_->tmp.string());
   impl_->lcpl = H5Pcreate(H5P_LINK_CREATE);
   H5Pset_create_intermediate_group(impl_->lcpl, 1);
@@ -170,7 +325,16 @@ void CheckpointWriter::put_array(const std::string& name, StateType type, const 
   STRATA_CHECK(impl_->file >= 0, IO, "checkpoint {} is already committed", path_.string());
   const hsize_t dims[1] = {static_cast<hsize_t>(count)};
   Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose);
-  Handle set(H5Dcreate2(impl_->file, name.c_str(), native_type(type), space.get(), impl_->lcpl, H5P_DEFAULT,
+  // chunked with a Fletcher32 checksum on every chunk; an empty array has no data to protect
+  // (and a chunk cannot be empty), so it stays contiguous
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE), H5Pclose);
+  if (count > 0) {
+    const hsize_t chunk[1] = {std::min<hsize_t>(dims[0], kChunkElements)};
+    STRATA_CHECK(dcpl.ok() && H5Pset_chunk(dcpl.get(), 1, chunk) >= 0 && H5Pset_fletcher32(dcpl.get()) >= 0,
+                 IO, "cannot set up '{}' in checkpoint {} (no Fletcher32 filter in this HDF5?)", name,
+                 impl_->tmp.string());
+  }
+  Handle set(H5Dcreate2(impl_->file, name.c_str(), native_type(type), space.get(), impl_->lcpl, dcpl.get(),
                         H5P_DEFAULT),
              H5Dclose);
   STRATA_CHECK(space.ok() && set.ok(), IO, "cannot create '{}' in checkpoint {} (written twice?)", name,
@@ -223,7 +387,12 @@ CheckpointReader::CheckpointReader(const fs::path& path) : path_(path), impl_(st
   STRATA_CHECK(H5Fis_hdf5(path_.c_str()) > 0, IO, "{} is not a strata checkpoint (not an HDF5 file)",
                path_.string());
   impl_->file = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  STRATA_CHECK(impl_->file >= 0, IO, "cannot open checkpoint {}", path_.string());
+  if (impl_->file < 0) {
+    const Hdf5Failure f = last_failure();
+    if (f.checksum) fail(ErrorKind::IO, "{}", damage_message(path_, "its superblock or root group", f));
+    fail(ErrorKind::IO, "cannot open checkpoint {} (damaged, or not a checkpoint){}", path_.string(),
+         f.detail.empty() ? "" : ": " + f.detail);
+  }
   const hid_t root = impl_->file;
   const std::string format = get_string_attr(root, "format", path_);
   STRATA_CHECK(format == kFormatName, IO, "{} is not a strata checkpoint (format '{}')", path_.string(),
@@ -239,6 +408,9 @@ CheckpointReader::CheckpointReader(const fs::path& path) : path_(path), impl_(st
   info_.particles = get_number_attr<std::uint64_t>(root, "particles", H5T_NATIVE_UINT64, path_);
   info_.step = get_number_attr<std::int64_t>(root, "step", H5T_NATIVE_INT64, path_);
   info_.time = get_number_attr<double>(root, "time", H5T_NATIVE_DOUBLE, path_);
+  // every checksum is checked now, before the caller uses or writes anything
+  const std::string damaged = Verifier(path_).run(root);
+  STRATA_CHECK(damaged.empty(), IO, "{}", damaged);
 }
 
 CheckpointReader::~CheckpointReader() = default;

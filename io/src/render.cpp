@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 
 #include "atomic_file.hpp"
@@ -32,6 +33,7 @@
 #include <vtkFloatArray.h>
 #include <vtkGlyph3DMapper.h>
 #include <vtkIdTypeArray.h>
+#include <vtkLight.h>
 #include <vtkLineSource.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
@@ -58,6 +60,7 @@
 
 #include <cstdlib>
 #include <sstream>
+#include <unordered_map>
 #endif
 
 namespace strata::io {
@@ -246,15 +249,21 @@ vtkSmartPointer<vtkActor2D> legend_line(double x0, double x1, double y, const Rg
   return a;
 }
 
+/// Says whether the picture shows the bond particle of this index (3D); null in 2D, where
+/// every bond is drawn.
+using SeenTest = std::function<bool(std::size_t)>;
+
 /// Crack glyphs of one mode: a segment (2D) or disc (3D) at each bond's midpoint,
-/// perpendicular to the bond and as wide as the contact face of a close packing.
+/// perpendicular to the bond. With a `seen` test, only cracks next to a particle that is
+/// seen are drawn. `count` counts the cracks the clip plane leaves, drawn or hidden.
 struct CrackSet {
   vtkSmartPointer<vtkPolyData> centres;
   std::size_t count = 0;
+  std::size_t drawn = 0;
 };
 
 CrackSet crack_set(const PointCloud& pts, const LineSet& bonds, const Array* state, const Array* radius,
-                   int code, const RenderStyle& s, int dim) {
+                   int code, const RenderStyle& s, int dim, const SeenTest& seen) {
   vtkNew<vtkPoints> p;
   p->SetDataTypeToDouble();
   vtkNew<vtkDoubleArray> dir, size;
@@ -274,14 +283,18 @@ CrackSet crack_set(const PointCloud& pts, const LineSet& bonds, const Array* sta
     double d[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
     const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (len == 0) continue;
-    // Face of the Voronoi cell between two touching equal disks in a hexagonal packing:
-    // d/sqrt(3) long, so cracks of neighbouring bonds join into continuous lines.
+    // 2D: face of the Voronoi cell between two touching equal disks in a hexagonal packing,
+    // d/sqrt(3) long, so cracks of neighbouring bonds join into continuous lines. 3D: a disc
+    // as wide as the particles' mean radius, so the cracks crossing a surface read as a
+    // dashed line.
     const double ri = radius ? radius->at(i) : 0.5 * len, rj = radius ? radius->at(j) : 0.5 * len;
-    const double face = dim == 2 ? (ri + rj) / std::sqrt(3.0) : 0.5 * (ri + rj) * 0.6;
+    const double face = dim == 2 ? (ri + rj) / std::sqrt(3.0) : 0.5 * (ri + rj);
+    ++out.count;
+    if (seen && !seen(i) && !seen(j)) continue;
     p->InsertNextPoint(mid);
     dir->InsertNextTuple3(d[0] / len, d[1] / len, d[2] / len);
     size->InsertNextValue(face);
-    ++out.count;
+    ++out.drawn;
   }
   out.centres = vtkSmartPointer<vtkPolyData>::New();
   out.centres->SetPoints(p);
@@ -369,6 +382,144 @@ void fit_3d_camera(vtkRenderer* ren, const double b[6], int w, int h, double x0,
   const double ax = 0.5 * (x0 + x1) * w, ay = 0.5 * (y0 + y1) * h;
   cam->SetWindowCenter(std::abs(kx) > 1e-9 ? (ax - c0x) / kx : 0.0,
                        std::abs(ky) > 1e-9 ? (ay - c0y) / ky : 0.0);
+}
+
+/// Outward directions of a 3D particle assembly at each of its centres (3 values per point
+/// in `xyz`): the mean offset from the neighbours within `reach` to the point, in units of
+/// `reach`, then averaged half and half with its neighbours' mean, so that the grains of
+/// one face of the assembly agree. A point on a flat face gets about 0.3 along the face's
+/// outward normal, a point deep inside about 0. `alone` marks the points without neighbours.
+struct Outward {
+  std::vector<double> dir;
+  std::vector<bool> alone;
+};
+Outward outward_directions(const std::vector<double>& xyz, double reach) {
+  const std::size_t n = xyz.size() / 3;
+  Outward res{std::vector<double>(3 * n, 0.0), std::vector<bool>(n, true)};
+  auto& out = res.dir;
+  if (n == 0 || !(reach > 0)) return res;
+  double lo[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::isfinite(xyz[3 * i + k])) lo[k] = std::min(lo[k], xyz[3 * i + k]);
+    if (!std::isfinite(lo[k])) lo[k] = 0;
+  }
+  // Points sorted by grid cell (cells `reach` wide); a cell's 21-bit coordinates packed
+  // into one key (keys of far apart cells may coincide, which only costs distance tests;
+  // a point with a coordinate that is not finite has no neighbours).
+  auto cell = [&](const double* p, int k) {
+    const double c = std::floor((p[k] - lo[k]) / reach);
+    return static_cast<std::int64_t>(std::isfinite(c) ? std::clamp(c, -1e15, 1e15) : 0.0);
+  };
+  auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
+    constexpr std::int64_t m = (std::int64_t{1} << 21) - 1;
+    return (x & m) | (y & m) << 21 | (z & m) << 42;
+  };
+  std::vector<std::pair<std::int64_t, std::size_t>> order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double* p = &xyz[3 * i];
+    order[i] = {key(cell(p, 0), cell(p, 1), cell(p, 2)), i};
+  }
+  std::sort(order.begin(), order.end());
+  std::unordered_map<std::int64_t, std::pair<std::size_t, std::size_t>> cells;
+  for (std::size_t a = 0; a < n;) {
+    std::size_t b = a;
+    while (b < n && order[b].first == order[a].first) ++b;
+    cells.emplace(order[a].first, std::make_pair(a, b));
+    a = b;
+  }
+  auto for_neighbours = [&](std::size_t i, auto&& f) {
+    const double* p = &xyz[3 * i];
+    const std::int64_t c[3] = {cell(p, 0), cell(p, 1), cell(p, 2)};
+    for (std::int64_t dz = -1; dz <= 1; ++dz)
+      for (std::int64_t dy = -1; dy <= 1; ++dy)
+        for (std::int64_t dx = -1; dx <= 1; ++dx) {
+          const auto it = cells.find(key(c[0] + dx, c[1] + dy, c[2] + dz));
+          if (it == cells.end()) continue;
+          for (std::size_t a = it->second.first; a < it->second.second; ++a) {
+            const std::size_t j = order[a].second;
+            const double* q = &xyz[3 * j];
+            const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+            if (j != i && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach) f(j, d);
+          }
+        }
+  };
+  std::vector<double> raw(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    double sum[3] = {0, 0, 0};
+    std::size_t count = 0;
+    for_neighbours(i, [&](std::size_t, const double* d) {
+      for (int k = 0; k < 3; ++k) sum[k] += d[k];
+      ++count;
+    });
+    res.alone[i] = count == 0;
+    if (count > 0)
+      for (int k = 0; k < 3; ++k) raw[3 * i + k] = sum[k] / (reach * static_cast<double>(count));
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    double sum[3] = {0, 0, 0};
+    std::size_t count = 0;
+    for_neighbours(i, [&](std::size_t j, const double*) {
+      for (int k = 0; k < 3; ++k) sum[k] += raw[3 * j + k];
+      ++count;
+    });
+    for (int k = 0; k < 3; ++k)
+      out[3 * i + k] = count > 0 ? 0.5 * raw[3 * i + k] + 0.5 * sum[k] / static_cast<double>(count) : 0.0;
+  }
+  return res;
+}
+
+/// Direction of the key light of 3D pictures in the camera's frame: from the upper left
+/// and in front (x right, y up, z towards the viewer).
+constexpr double kKeyLight[3] = {-0.45, 0.75, 1.0};
+/// Brightness of faces turned away from the key light, and of particles inside.
+constexpr double kFaceDark = 0.4, kInsideDark = 0.4;
+
+/// Brightness factors (0.4 .. 1) that shade a 3D particle assembly like a solid: each
+/// particle is lit by the key light as the face of the assembly it lies on (its outward
+/// direction), so the faces of a block, of a notch cut into it and of a clip plane's cut
+/// each get their own brightness. Particles inside (seen through the gaps between the
+/// surface grains) are dark; particles alone are lit as if facing the camera.
+std::vector<double> face_shading(const std::vector<double>& xyz, double mean_r, vtkCamera* cam) {
+  const std::size_t n = xyz.size() / 3;
+  double view[3], up[3], right[3];
+  {
+    double pos[3], focal[3];
+    cam->GetPosition(pos);
+    cam->GetFocalPoint(focal);
+    cam->GetViewUp(up);
+    for (int k = 0; k < 3; ++k) view[k] = pos[k] - focal[k];  // towards the viewer
+  }
+  auto normalise = [](double* v) {
+    const double l = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (l > 0)
+      for (int k = 0; k < 3; ++k) v[k] /= l;
+    return l;
+  };
+  normalise(view);
+  const double uv = up[0] * view[0] + up[1] * view[1] + up[2] * view[2];
+  for (int k = 0; k < 3; ++k) up[k] -= uv * view[k];
+  normalise(up);
+  right[0] = up[1] * view[2] - up[2] * view[1];
+  right[1] = up[2] * view[0] - up[0] * view[2];
+  right[2] = up[0] * view[1] - up[1] * view[0];
+  double light[3];
+  for (int k = 0; k < 3; ++k)
+    light[k] = kKeyLight[0] * right[k] + kKeyLight[1] * up[k] + kKeyLight[2] * view[k];
+  normalise(light);
+  // A flat face's outward direction is about 0.3 long; 0.15 and longer count fully.
+  const Outward out = outward_directions(xyz, 3.5 * mean_r);
+  auto lit = [&](const double* d) {
+    return kFaceDark + (1 - kFaceDark) * std::max(0.0, d[0] * light[0] + d[1] * light[1] + d[2] * light[2]);
+  };
+  std::vector<double> f(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double d[3] = {out.dir[3 * i], out.dir[3 * i + 1], out.dir[3 * i + 2]};
+    const double w = std::min(1.0, normalise(d) / 0.15);
+    f[i] = out.alone[i] ? lit(view) : w * lit(d) + (1 - w) * kInsideDark;
+  }
+  return f;
 }
 
 void write_png(vtkRenderWindow* win, const fs::path& png) {
@@ -590,8 +741,8 @@ void render_frame(const RenderRequest& rq) {
     particles->GetProperty()->SetDiffuse(0.0);
     particles->GetProperty()->SetSpecular(0.0);
   } else {
-    particles->GetProperty()->SetAmbient(0.25);
-    particles->GetProperty()->SetDiffuse(0.8);
+    particles->GetProperty()->SetAmbient(0.35);
+    particles->GetProperty()->SetDiffuse(0.7);
     particles->GetProperty()->SetSpecular(0.1);
   }
 
@@ -606,7 +757,8 @@ void render_frame(const RenderRequest& rq) {
   scene->SetLayer(0);
   halo_layer->SetLayer(1);
   top->SetLayer(2);
-  for (auto* r : {scene.Get(), halo_layer.Get(), top.Get()}) win->AddRenderer(r);
+  // The bond layers join after the 3D depth pass below, which draws the scene alone.
+  win->AddRenderer(scene);
   if (shown > 0) scene->AddActor(particles);
   if (mesh.actor) {
     if (dim == 2 && shown > 0) {
@@ -644,9 +796,96 @@ void render_frame(const RenderRequest& rq) {
     cam->SetViewAngle(25);
     scene->ResetCamera(bounds);
     fit_3d_camera(scene, bounds, W, H, mx0, mx1, my0, my1);
+
+    // A key light from the upper left and a weaker headlight, both fixed to the camera.
+    scene->AutomaticLightCreationOff();
+    scene->RemoveAllLights();
+    vtkNew<vtkLight> key, head;
+    key->SetLightTypeToCameraLight();
+    key->SetPosition(kKeyLight[0], kKeyLight[1], kKeyLight[2]);
+    key->SetFocalPoint(0, 0, 0);
+    key->SetIntensity(0.65);
+    head->SetLightTypeToHeadlight();
+    head->SetIntensity(0.45);
+    scene->AddLight(key);
+    scene->AddLight(head);
+
+    // Particle colours (from the colour map or uniform) darkened by the face of the
+    // assembly each particle lies on, so the model's shape reads as a solid's.
+    if (shown > 0) {
+      std::vector<double> xyz(3 * static_cast<std::size_t>(shown));
+      for (vtkIdType i = 0; i < shown; ++i) pts->GetPoint(i, &xyz[3 * static_cast<std::size_t>(i)]);
+      const std::vector<double> shade = face_shading(xyz, mean_r, cam);
+      vtkNew<vtkUnsignedCharArray> rgb;
+      rgb->SetName("rgb");
+      rgb->SetNumberOfComponents(3);
+      rgb->SetNumberOfTuples(shown);
+      for (vtkIdType i = 0; i < shown; ++i) {
+        Rgb c = kUniformParticleColour;
+        if (!values.empty()) lut->GetColor(col->GetValue(i), c.data());
+        for (int k = 0; k < 3; ++k)
+          rgb->SetValue(3 * i + k,
+                        static_cast<unsigned char>(std::clamp(std::lround(255 * c[k] * shade[i]), 0L, 255L)));
+      }
+      centres->GetPointData()->AddArray(rgb);
+      pmap->SetColorModeToDirectScalars();
+      pmap->SetScalarModeToUsePointFieldData();
+      pmap->SelectColorArray("rgb");
+      pmap->ScalarVisibilityOn();
+    }
   }
   halo_layer->SetActiveCamera(cam);
   top->SetActiveCamera(cam);
+
+  // 3D: bonds are drawn over the scene, so only those next to a particle the picture
+  // shows are drawn: cracks on the model's surface, just under it, and on the clip plane's
+  // cut, not those deep inside. The scene is drawn once alone; a particle is seen when the
+  // surface at its centre's pixel lies at most 1.5 radii in front of its centre (its own
+  // front lies one radius in front), or when nothing is drawn in front of it at all (as
+  // for a particle the clip plane removed).
+  std::vector<float> depth;
+  std::vector<signed char> seen_point;
+  SeenTest seen;
+  if (dim == 3 && rq.bonds && rq.bonds->size() > 0 &&
+      (s.show_broken_bonds || s.show_intact_bonds || s.show_contacts)) {
+    win->Render();
+    depth.resize(static_cast<std::size_t>(W) * static_cast<std::size_t>(H));
+    win->GetZbufferData(0, 0, W - 1, H - 1, depth.data());
+    seen_point.assign(bond_pts.size(), -1);
+    const Array* r_of = bond_pts.find(kRadiusArray);
+    double towards[3];
+    cam->GetDirectionOfProjection(towards);
+    seen = [&, r_of, towards](std::size_t i) {
+      if (seen_point[i] < 0) {
+        const double* p = &bond_pts.xyz[3 * i];
+        double d[4];
+        scene->SetWorldPoint(p[0], p[1], p[2], 1);
+        scene->WorldToDisplay();
+        scene->GetDisplayPoint(d);
+        const double x = std::floor(d[0]), y = std::floor(d[1]);
+        bool shown_here = false;
+        if (x >= 0 && y >= 0 && x < W && y < H) {
+          const float z =
+              depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(W) + static_cast<std::size_t>(x)];
+          shown_here = z >= 1.0f;  // nothing drawn at this pixel
+          if (!shown_here) {
+            scene->SetDisplayPoint(d[0], d[1], z);
+            scene->DisplayToWorld();
+            scene->GetWorldPoint(d);
+            if (d[3] != 0)
+              for (int k = 0; k < 3; ++k) d[k] /= d[3];
+            const double behind =
+                (p[0] - d[0]) * towards[0] + (p[1] - d[1]) * towards[1] + (p[2] - d[2]) * towards[2];
+            shown_here = behind <= 1.5 * (r_of ? r_of->at(i) : mean_r);
+          }
+        }
+        seen_point[i] = shown_here ? 1 : 0;
+      }
+      return seen_point[i] == 1;
+    };
+  }
+  win->AddRenderer(halo_layer);
+  win->AddRenderer(top);
 
   // ---- bonds ----------------------------------------------------------------------------
   std::vector<std::pair<const ModeStyle*, std::size_t>> legend;
@@ -679,11 +918,14 @@ void render_frame(const RenderRequest& rq) {
         const double* c = &bond_pts.xyz[3 * bonds.ends[2 * b + 1]];
         const double mid[3] = {0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1]), 0.5 * (a[2] + c[2])};
         if (clipped(s, dim, mid)) continue;
+        ++count;
+        if (seen && !seen(static_cast<std::size_t>(bonds.ends[2 * b])) &&
+            !seen(static_cast<std::size_t>(bonds.ends[2 * b + 1])))
+          continue;
         const vtkIdType ids[2] = {lp->InsertNextPoint(a), lp->InsertNextPoint(c)};
         cells->InsertNextCell(2, ids);
-        ++count;
       }
-      if (count == 0) return count;
+      if (cells->GetNumberOfCells() == 0) return count;
       vtkNew<vtkPolyData> pd;
       pd->SetPoints(lp);
       pd->SetLines(cells);
@@ -704,10 +946,10 @@ void render_frame(const RenderRequest& rq) {
       contacts = thin_lines(BondState::Contact, kContactMode.colour, std::max(1.0, 0.5 * line_w));
     if (s.show_broken_bonds) {
       for (const auto& mode : kModes) {
-        auto set = crack_set(bond_pts, bonds, state, bond_radius, static_cast<int>(mode.state), s, dim);
+        auto set = crack_set(bond_pts, bonds, state, bond_radius, static_cast<int>(mode.state), s, dim, seen);
         if (!state && mode.state != BondState::BrokenTension) continue;
         legend.emplace_back(&mode, set.count);
-        if (set.count == 0) continue;
+        if (set.drawn == 0) continue;
         // A white halo under each crack keeps it visible on any particle colour.
         // (One mapper per actor: a mapper's buffers belong to one renderer.)
         vtkNew<vtkActor> halo, crack;
@@ -796,7 +1038,8 @@ void render_frame(const RenderRequest& rq) {
 
 std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files, const fs::path& out_dir,
                                     const RenderStyle& style, const std::vector<fs::path>& bond_files,
-                                    const std::vector<fs::path>& mesh_files) {
+                                    const std::vector<fs::path>& mesh_files,
+                                    const std::function<bool()>& stop) {
   const std::size_t frames = std::max({particle_files.size(), bond_files.size(), mesh_files.size()});
   for (const auto* list : {&particle_files, &bond_files, &mesh_files})
     STRATA_CHECK(list->empty() || list->size() == frames, Input,
@@ -807,25 +1050,36 @@ std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files,
     return files.empty() ? fs::path() : files[k];
   };
   RenderStyle s = style;
-  if (!s.range && !s.field.empty()) {
-    // One colour range for the whole series, so a colour means the same in every frame.
-    std::array<double, 2> r{std::numeric_limits<double>::infinity(),
-                            -std::numeric_limits<double>::infinity()};
-    for (std::size_t k = 0; k < frames; ++k) {
-      if (const auto f = at(particle_files, k); !f.empty())
-        r = merge(r, finite_range(field_values(read_vtp(f).points, s)));
-      if (const auto f = at(mesh_files, k); !f.empty())
-        r = merge(r, finite_range(field_values(read_vtu(f), s).values));
+  // Every frame is read once before the first is drawn: a damaged file stops the drawing
+  // before it starts, and the colour range (unless the style fixes one) is the whole
+  // series', so a colour means the same in every frame.
+  const bool find_range = !s.range && !s.field.empty();
+  std::array<double, 2> r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+  for (std::size_t k = 0; k < frames; ++k) {
+    if (const auto f = at(particle_files, k); !f.empty()) {
+      const VtpContents v = read_vtp(f);
+      if (find_range) r = merge(r, finite_range(field_values(v.points, s)));
     }
-    if (r[0] <= r[1]) s.range = r;
+    if (const auto f = at(bond_files, k); !f.empty()) read_vtp(f);
+    if (const auto f = at(mesh_files, k); !f.empty()) {
+      const MeshFrame m = read_vtu(f);
+      if (find_range) r = merge(r, finite_range(field_values(m, s).values));
+    }
   }
+  if (find_range && r[0] <= r[1]) s.range = r;
   std::vector<fs::path> out;
   for (std::size_t k = 0; k < frames; ++k) {
+    if (stop && stop()) {
+      log::info("drawing stopped on request after {} of {} frames", k, frames);
+      break;
+    }
     RenderRequest rq;
     VtpContents particles, bonds;
     MeshFrame mesh;
     if (const auto f = at(particle_files, k); !f.empty()) {
       particles = read_vtp(f);
+      STRATA_CHECK(particles.points.size() > 0, Input, "render: {} holds no particles: nothing to draw",
+                   f.string());
       rq.particles = &particles.points;
     }
     if (const auto f = at(bond_files, k); !f.empty()) {
@@ -848,7 +1102,8 @@ std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files,
 }
 
 std::vector<fs::path> render_series(const fs::path& pvd, const fs::path& out_dir, const RenderStyle& style,
-                                    const fs::path& bonds_pvd, const fs::path& mesh_pvd) {
+                                    const fs::path& bonds_pvd, const fs::path& mesh_pvd,
+                                    const std::function<bool()>& stop) {
   const bool mesh_only = is_mesh_series(pvd);
   STRATA_CHECK(!(mesh_only && !mesh_pvd.empty()), Input,
                "render: {} lists FEM frames (.vtu), and a mesh series {} was given too", pvd.string(),
@@ -877,8 +1132,9 @@ std::vector<fs::path> render_series(const fs::path& pvd, const fs::path& out_dir
     if (!bonds_pvd.empty()) bfiles.push_back(matching(bonds_pvd, bond_entries, e));
     if (!mesh_pvd.empty()) mfiles.push_back(matching(mesh_pvd, mesh_entries, e));
   }
+  STRATA_CHECK(!entries.empty(), Input, "render: {} lists no frames: nothing to draw", pvd.string());
   log::info("rendering {} frames of {} to {}", entries.size(), pvd.string(), out_dir.string());
-  return render_frames(pfiles, out_dir, style, bfiles, mfiles);
+  return render_frames(pfiles, out_dir, style, bfiles, mfiles, stop);
 }
 
 bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
@@ -955,11 +1211,12 @@ bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
 
 void render_frame(const RenderRequest&) { fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures"); }
 std::vector<fs::path> render_frames(const std::vector<fs::path>&, const fs::path&, const RenderStyle&,
-                                    const std::vector<fs::path>&, const std::vector<fs::path>&) {
+                                    const std::vector<fs::path>&, const std::vector<fs::path>&,
+                                    const std::function<bool()>&) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
 std::vector<fs::path> render_series(const fs::path&, const fs::path&, const RenderStyle&, const fs::path&,
-                                    const fs::path&) {
+                                    const fs::path&, const std::function<bool()>&) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
 bool make_movie(const fs::path&, const fs::path&, int) {

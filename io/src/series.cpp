@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "atomic_file.hpp"
@@ -86,6 +88,15 @@ std::vector<PvdEntry> read_pvd(const fs::path& pvd) {
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();
+  // A series file strata (or ParaView) wrote ends with </Collection> and </VTKFile>: without
+  // them it was cut short, and the frames it lists may not be all there are.
+  STRATA_CHECK(text.find("<Collection") != std::string::npos &&
+                   text.find("</Collection>") != std::string::npos &&
+                   text.find("</VTKFile>") != std::string::npos,
+               IO,
+               "{} is damaged or not a ParaView series: a .pvd file holds <VTKFile type=\"Collection\"> "
+               "with a <Collection> of <DataSet> entries, closed by </Collection> and </VTKFile>",
+               pvd.string());
   std::vector<PvdEntry> out;
   for (std::size_t pos = 0; (pos = text.find("<DataSet", pos)) != std::string::npos;) {
     const auto end = text.find('>', pos);
@@ -93,7 +104,10 @@ std::vector<PvdEntry> read_pvd(const fs::path& pvd) {
     const std::string tag = text.substr(pos, end - pos);
     PvdEntry e;
     const auto t = attribute(tag, "timestep");
-    e.time = t.empty() ? 0.0 : std::strtod(t.c_str(), nullptr);
+    char* t_end = nullptr;
+    e.time = t.empty() ? 0.0 : std::strtod(t.c_str(), &t_end);
+    STRATA_CHECK(t.empty() || (t_end && *t_end == '\0' && std::isfinite(e.time)), IO,
+                 "{}: <DataSet> with timestep=\"{}\", which is not a number", pvd.string(), t);
     const auto part = attribute(tag, "part");
     e.part = part.empty() ? 0 : std::atoi(part.c_str());
     e.file = attribute(tag, "file");
@@ -127,20 +141,42 @@ Series::Series(fs::path dir, std::string name, Mode mode) : dir_(std::move(dir))
   std::error_code ec;
   fs::create_directories(dir_, ec);
   STRATA_CHECK(!ec, IO, "cannot create output folder {}: {}", dir_.string(), ec.message());
-  // Remove temporaries a killed run may have left: they were never listed.
-  const std::string prefix = name_ + "_";
-  for (const auto& f : fs::directory_iterator(dir_, ec)) {
-    const std::string fn = f.path().filename().string();
-    const bool stale_frame = fn.starts_with(prefix) && (fn.ends_with(".vtp.tmp") || fn.ends_with(".vtu.tmp"));
-    if (stale_frame || fn == name_ + ".pvd.tmp") {
-      log::debug("removing stale temporary {}", f.path().string());
-      fs::remove(f.path(), ec);
-    }
-  }
   if (mode == Mode::Resume && fs::exists(pvd_path())) {
     entries_ = read_pvd(pvd_path());
     renumber();
   }
+  const std::size_t n = remove_unlisted(mode == Mode::Fresh);
+  if (n > 0 && mode == Mode::Fresh)
+    log::info("{}: removed the {} files of an earlier '{}' series (frames, .pvd, unfinished .tmp files)",
+              dir_.string(), n, name_);
+  else if (n > 0)
+    log::warn(
+        "{}: removed {} file{} of the '{}' series that its .pvd does not list (written by a run that was "
+        "killed before listing them)",
+        dir_.string(), n, n == 1 ? "" : "s", name_);
+}
+
+std::size_t Series::remove_unlisted(bool pvd_too) {
+  // <name>_<digits>.vtp|.vtu and their .tmp, <name>.pvd.tmp; <name>.pvd itself when asked.
+  const std::string prefix = name_ + "_";
+  auto is_frame = [&](std::string fn) {
+    if (fn.ends_with(".tmp")) fn.resize(fn.size() - 4);
+    if (!fn.starts_with(prefix) || !(fn.ends_with(".vtp") || fn.ends_with(".vtu"))) return false;
+    const std::string digits = fn.substr(prefix.size(), fn.size() - prefix.size() - 4);
+    return !digits.empty() &&
+           std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; });
+  };
+  std::set<std::string> listed;
+  for (const auto& e : entries_) listed.insert(e.file.filename().string());
+  std::size_t removed = 0;
+  std::error_code ec;
+  for (const auto& f : fs::directory_iterator(dir_, ec)) {
+    const std::string fn = f.path().filename().string();
+    const bool stale =
+        (is_frame(fn) && !listed.count(fn)) || fn == name_ + ".pvd.tmp" || (pvd_too && fn == name_ + ".pvd");
+    if (stale && fs::remove(f.path(), ec)) ++removed;
+  }
+  return removed;
 }
 
 void Series::renumber() {
@@ -186,6 +222,9 @@ void Series::truncate_after(double time) {
   std::erase_if(entries_, [time](const PvdEntry& e) { return e.time > time; });
   renumber();
   write_pvd(pvd_path(), entries_);
+  if (const std::size_t n = remove_unlisted(false))
+    log::info("{}: removed {} '{}' frame{} written after the checkpoint", dir_.string(), n, name_,
+              n == 1 ? "" : "s");
 }
 
 }  // namespace strata::io

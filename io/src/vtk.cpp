@@ -9,6 +9,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
 #include <vtkCellData.h>
+#include <vtkCommand.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkFloatArray.h>
@@ -17,6 +18,7 @@
 #include <vtkIntArray.h>
 #include <vtkLongLongArray.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -25,11 +27,13 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLPolyDataReader.h>
 #include <vtkXMLPolyDataWriter.h>
+#include <vtkXMLReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridWriter.h>
 
 #include <cmath>
 #include <numeric>
+#include <string>
 #endif
 
 namespace strata::io {
@@ -241,12 +245,43 @@ void write_lines(const std::filesystem::path& path, const PointCloud& points, co
   write_xml<vtkXMLPolyDataWriter>(path, pd);
 }
 
+namespace {
+/// The errors a VTK XML reader meets (a truncated or damaged file): VTK's readers print them
+/// and go on with what they could read, so they are collected here and turned into an Error.
+class ReadErrors : public vtkCommand {
+ public:
+  static ReadErrors* New();
+  vtkTypeMacro(ReadErrors, vtkCommand) void Execute(vtkObject*, unsigned long, void* data) override {
+    if (first.empty()) first = data ? static_cast<const char*>(data) : "an error without a message";
+  }
+  std::string first;  ///< empty: no error
+};
+vtkStandardNewMacro(ReadErrors)
+
+    /// Reads `path` with the XML reader `r`; throws Error(IO) naming the file and VTK's first
+    /// complaint when the file is damaged.
+    void read_checked(vtkXMLReader* r, const std::filesystem::path& path) {
+  vtkNew<ReadErrors> errors;
+  r->SetReaderErrorObserver(errors);
+  r->SetParserErrorObserver(errors);
+  r->AddObserver(vtkCommand::ErrorEvent, errors);
+  r->SetFileName(path.c_str());
+  r->Update();
+  std::string why = errors->first;
+  if (why.empty() && (r->GetErrorCode() != 0 || !r->GetOutputDataObject(0))) why = "VTK could not read it";
+  // VTK's messages read "ERROR: In <source>, line <n>\n<class> (<address>): <what>\n": keep <what>.
+  if (const auto at = why.find("): "); at != std::string::npos) why = why.substr(at + 3);
+  while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
+  for (char& c : why)
+    if (c == '\n') c = ' ';
+  STRATA_CHECK(why.empty(), IO, "{} is damaged or not a VTK XML file of its kind: {}", path.string(), why);
+}
+}  // namespace
+
 VtpContents read_vtp(const std::filesystem::path& path) {
   STRATA_CHECK(std::filesystem::exists(path), IO, "cannot read {}: no such file", path.string());
   vtkNew<vtkXMLPolyDataReader> r;
-  r->SetFileName(path.c_str());
-  r->Update();
-  STRATA_CHECK(r->GetErrorCode() == 0 && r->GetOutput(), IO, "VTK could not read {}", path.string());
+  read_checked(r, path);
   vtkPolyData* pd = r->GetOutput();
   VtpContents out;
   auto& cloud = out.points;
@@ -326,9 +361,7 @@ void write_mesh(const std::filesystem::path& path, const MeshFrame& mesh) {
 MeshFrame read_vtu(const std::filesystem::path& path) {
   STRATA_CHECK(std::filesystem::exists(path), IO, "cannot read {}: no such file", path.string());
   vtkNew<vtkXMLUnstructuredGridReader> r;
-  r->SetFileName(path.c_str());
-  r->Update();
-  STRATA_CHECK(r->GetErrorCode() == 0 && r->GetOutput(), IO, "VTK could not read {}", path.string());
+  read_checked(r, path);
   vtkUnstructuredGrid* ug = r->GetOutput();
   MeshFrame out;
   const vtkIdType n = ug->GetNumberOfPoints();

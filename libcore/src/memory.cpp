@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include <unistd.h>
+
 namespace strata::sys {
 namespace {
 /// A "Key:   1234 kB" field of /proc/self/status, in bytes.
@@ -25,5 +27,10 @@ std::size_t status_field_bytes(const char* key) {
 
 std::size_t rss_bytes() { return status_field_bytes("VmRSS"); }
 std::size_t peak_rss_bytes() { return status_field_bytes("VmHWM"); }
+
+std::size_t physical_memory_bytes() {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? std::size_t(pages) * std::size_t(page) : 0;
+}
 
 }  // namespace strata::sys

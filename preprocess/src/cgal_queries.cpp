@@ -13,10 +13,12 @@
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Aff_transformation_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/IO/polygon_mesh_io.h>
 #include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/orientation.h>
+#include <CGAL/Polygon_mesh_processing/transform.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
@@ -69,7 +71,7 @@ int orient2d_exact(double au, double av, double bu, double bv, double cu, double
 #endif
 }
 
-std::shared_ptr<const ClosedSurface> read_closed_surface(const std::filesystem::path& file) {
+std::shared_ptr<const ClosedSurface> read_closed_surface(const std::filesystem::path& file, double unit) {
 #if STRATA_WITH_CGAL
   namespace PMP = CGAL::Polygon_mesh_processing;
   auto s = std::make_shared<ClosedSurface>();
@@ -87,6 +89,7 @@ std::shared_ptr<const ClosedSurface> read_closed_surface(const std::filesystem::
                "triangle surface in ASCII or binary STL, or OFF",
                file.string(), file.extension().string());
   if (!CGAL::is_triangle_mesh(s->mesh)) PMP::triangulate_faces(s->mesh);
+  if (unit != 1.0) PMP::transform(CGAL::Aff_transformation_3<K>(CGAL::SCALING, unit), s->mesh);
   std::size_t border = 0;
   for (auto h : s->mesh.halfedges())
     if (s->mesh.is_border(h)) ++border;

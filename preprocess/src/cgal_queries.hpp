@@ -16,7 +16,9 @@ int orient2d_exact(double au, double av, double bu, double bv, double cu, double
 
 /// Reads a closed triangle surface (.stl, .off); Error(Input) when it cannot be read or is
 /// not closed. Faces are triangulated and oriented outward.
-std::shared_ptr<const ClosedSurface> read_closed_surface(const std::filesystem::path& file);
+/// `unit`: metres per unit of the file's coordinates (the surface is scaled to metres).
+std::shared_ptr<const ClosedSurface> read_closed_surface(const std::filesystem::path& file,
+                                                         double unit = 1.0);
 /// Inside test (points on the surface count as inside).
 bool surface_contains(const ClosedSurface& s, const Vec3& p);
 double surface_volume(const ClosedSurface& s);

@@ -2,7 +2,10 @@
 #include "strata/preprocess/geometry.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/core/memory.hpp>
 #include <strata/core/parallel.hpp>
+
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
@@ -67,7 +70,35 @@ std::string GmshSession::last_error() {
   gmsh::logger::getLastError(e);
   return e;
 }
+
+const std::string& GmshSession::version() {
+  static const std::string v = [] {
+    std::string s;
+    gmsh::option::getString("General.Version", s);
+    return s.empty() ? std::string(GMSH_API_VERSION) : s;
+  }();
+  return v;
+}
+
+std::string GmshSession::cannot(const std::string& file, const std::string& action) {
+  return fmt::format("{}: gmsh {} cannot {}", file, version(), action);
+}
+
+std::string GmshSession::explain(const std::string& message) {
+  if (message.find("syntax error") == std::string::npos) return message;
+  return fmt::format(
+      "{} (gmsh {} reads .geo files written for its own version and older ones; a file written for a "
+      "newer gmsh, such as a newer gmsh tutorial, can use commands this version does not know)",
+      message, version());
+}
 }  // namespace detail
+
+std::string gmsh_version() {
+  detail::GmshSession session;
+  return detail::GmshSession::version();
+}
+#else
+std::string gmsh_version() { return ""; }
 #endif
 
 // ---- GeometryRegion ------------------------------------------------------------------------
@@ -337,10 +368,14 @@ void entity_simplices(int dim, int tag, const std::string& file, std::vector<std
       int d = 0, order = 0, n = 0, np = 0;
       std::vector<double> local;
       gmsh::model::mesh::getElementProperties(types[t], name, d, order, n, local, np);
+      const bool meshed_here = !fs::path(file).extension().string().ends_with("msh");
       fail(ErrorKind::Input,
-           "{}: entity {} of dimension {} has {} elements; allowed: triangles (2D) and "
-           "tetrahedra (3D) (remesh with gmsh, or use a .geo/.step so strata meshes it)",
-           file, tag, dim, name);
+           "{}: entity {} of dimension {} has {} elements; allowed: triangles (2D) and tetrahedra (3D) {}",
+           file, tag, dim, name,
+           meshed_here
+               ? "(the geometry asks gmsh for them, e.g. Recombine in an Extrude's Layers: strata splits "
+                 "quadrangles into triangles itself, but not hexahedra or prisms; remove Recombine)"
+               : "(remesh with gmsh, or use a .geo/.step so strata meshes it)");
     }
     const std::size_t ne = etags[t].size();
     for (std::size_t e = 0; e < ne; ++e)
@@ -348,14 +383,53 @@ void entity_simplices(int dim, int tag, const std::string& file, std::vector<std
   }
 }
 
+/// gmsh meshes what a file asks for, however fine: a characteristic length of 1e-6 m in a
+/// plate of centimetres means some 10^9 triangles and hours of meshing. The curves are meshed
+/// first (quick), and their mean element length h gives the count the surfaces (bounding
+/// box area / (√3/4·h²)) or volumes (box volume / (√2/12·h³)) would get; a mesh that would
+/// need more than half this machine's memory (about 500 bytes per triangle and 1000 per
+/// tetrahedron in gmsh and strata) is refused with the estimate before it is made.
+void refuse_huge_mesh(const std::string& what, int dim) {
+  gmsh::model::mesh::generate(1);
+  std::vector<std::size_t> node_tags, line_tags, line_nodes;
+  std::vector<double> xyz, param;
+  gmsh::model::mesh::getNodes(node_tags, xyz, param, -1, -1, false, false);
+  gmsh::model::mesh::getElementsByType(1, line_tags, line_nodes);
+  if (line_tags.empty()) return;
+  std::unordered_map<std::size_t, std::size_t> index;
+  for (std::size_t k = 0; k < node_tags.size(); ++k) index[node_tags[k]] = k;
+  double length = 0;
+  for (std::size_t e = 0; e < line_tags.size(); ++e) {
+    const std::size_t a = index.at(line_nodes[2 * e]), b = index.at(line_nodes[2 * e + 1]);
+    length +=
+        std::hypot(xyz[3 * a] - xyz[3 * b], xyz[3 * a + 1] - xyz[3 * b + 1], xyz[3 * a + 2] - xyz[3 * b + 2]);
+  }
+  const double h = length / double(line_tags.size());
+  double lo[3], hi[3];
+  gmsh::model::getBoundingBox(-1, -1, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+  const double box =
+      dim == 2 ? (hi[0] - lo[0]) * (hi[1] - lo[1]) : (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+  const double elements =
+      dim == 2 ? box / (std::sqrt(3.0) / 4 * h * h) : box / (std::sqrt(2.0) / 12 * h * h * h);
+  const double bytes = elements * (dim == 2 ? 500.0 : 1000.0), memory = double(sys::physical_memory_bytes());
+  STRATA_CHECK(
+      !(h > 0) || memory <= 0 || bytes <= memory / 2, Input,
+      "{}: gmsh would make about {:.3g} {} (elements about {:.3g} m long along the curves of a geometry "
+      "{:.3g} m across): about {:.3g} GB, more than half this machine's {:.3g} GB of memory; allowed: "
+      "larger characteristic lengths (lc) in the file, or a mesh_size on the region",
+      what, elements, dim == 2 ? "triangles" : "tetrahedra", h,
+      std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}), bytes / 1e9, memory / 1e9);
+}
+
 Geometry read_gmsh(const fs::path& file, const GeometryOptions& opt) {
   detail::GmshSession gs;
   const std::string what = file.string();
   Geometry g;
   g.file = what;
-  gs.run(what + ": gmsh cannot read this file", [&] { gmsh::open(file.string()); });
+  gs.run(detail::GmshSession::cannot(what, "read this file"), [&] { gmsh::open(file.string()); });
   const std::string err = detail::GmshSession::last_error();
-  STRATA_CHECK(err.empty(), Input, "{}: gmsh cannot read this file: {}", what, err);
+  STRATA_CHECK(err.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "read this file"),
+               detail::GmshSession::explain(err));
   const int dim = gmsh::model::getDimension();
   STRATA_CHECK(
       dim >= 2, Input,
@@ -371,15 +445,42 @@ Geometry read_gmsh(const fs::path& file, const GeometryOptions& opt) {
   std::vector<std::size_t> probe_tags, probe_nodes;
   gmsh::model::mesh::getElementsByType(dim == 2 ? 2 : 4, probe_tags, probe_nodes);
   if (probe_tags.empty()) {
-    if (opt.mesh_size > 0) gmsh::option::setNumber("Mesh.MeshSizeMax", opt.mesh_size);
-    if (opt.mesh_size_min > 0) gmsh::option::setNumber("Mesh.MeshSizeMin", opt.mesh_size_min);
+    // sizes in the file's own unit
+    if (opt.mesh_size > 0) gmsh::option::setNumber("Mesh.MeshSizeMax", opt.mesh_size / opt.unit);
+    if (opt.mesh_size_min > 0) gmsh::option::setNumber("Mesh.MeshSizeMin", opt.mesh_size_min / opt.unit);
     if (opt.curvature_points > 0) gmsh::option::setNumber("Mesh.MinimumCirclePoints", opt.curvature_points);
-    gs.run(what + ": gmsh cannot mesh this geometry", [&] { gmsh::model::mesh::generate(dim); });
+    gs.run(detail::GmshSession::cannot(what, "mesh this geometry"), [&] {
+      refuse_huge_mesh(what, dim);
+      gmsh::model::mesh::generate(dim);
+      // Recombined surfaces (Recombine, structured extrusions of lines) come out as
+      // quadrangles: each is split into two triangles.
+      if (dim == 2) gmsh::model::mesh::splitQuadrangles();
+    });
     const std::string merr = detail::GmshSession::last_error();
-    STRATA_CHECK(merr.empty(), Input, "{}: gmsh cannot mesh this geometry: {}", what, merr);
+    STRATA_CHECK(merr.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "mesh this geometry"),
+                 detail::GmshSession::explain(merr));
   }
 
   g = detail::extract_gmsh_model(what, dim);
+  if (opt.unit != 1.0) {  // to metres
+    auto scale = [&](SimplexMesh& m) {
+      for (auto* c : {&m.x, &m.y, &m.z})
+        for (double& v : *c) v *= opt.unit;
+    };
+    scale(g.mesh);
+    for (auto& [name, b] : g.boundaries) scale(b);
+  }
+  if (dim == 2 && g.mesh.node_count() > 0) {
+    // strata's 2D models lie in the xy plane (z = 0): a surface elsewhere would be read by
+    // its x and y only, flattened, and filled with nothing.
+    const Bounds b = g.mesh.bounds();
+    const double span = std::max(b.hi[0] - b.lo[0], b.hi[1] - b.lo[1]);
+    STRATA_CHECK(
+        std::max(std::abs(b.lo[2]), std::abs(b.hi[2])) <= 1e-9 * std::max(span, 1e-300), Input,
+        "{}: the 2D geometry does not lie in the xy plane (z from {:.6g} to {:.6g} m); allowed: surfaces "
+        "at z = 0 (2D models are in the xy plane: rotate or move the geometry)",
+        what, b.lo[2], b.hi[2]);
+  }
   return g;
 }
 #endif
@@ -466,8 +567,10 @@ Geometry detail::extract_gmsh_model(const std::string& what, int dim) {
 Geometry read_geometry(const fs::path& file, const GeometryOptions& opt) {
   const std::string ext = lower(file.extension().string());
   STRATA_CHECK(fs::exists(file), Input, "geometry file {} does not exist", file.string());
+  STRATA_CHECK(opt.unit > 0 && std::isfinite(opt.unit), Input, "geometry file {}: unit {} m must be > 0",
+               file.string(), opt.unit);
   STRATA_CHECK(fs::is_regular_file(file), Input, "geometry file {} is not a regular file", file.string());
-  if (ext == ".stl" || ext == ".off") {
+  if (is_surface_file(file)) {
     STRATA_CHECK(opt.dim == 0 || opt.dim == 3, Input,
                  "{}: a closed surface bounds a 3D region but the scene is {}D; allowed in 2D: .geo, .msh, "
                  ".step, .brep",
@@ -475,23 +578,34 @@ Geometry read_geometry(const fs::path& file, const GeometryOptions& opt) {
     Geometry g;
     g.file = file.string();
     g.dim = 3;
-    g.surface = detail::read_closed_surface(file);
+    g.surface = detail::read_closed_surface(file, opt.unit);
     g.regions[file.stem().string()] = {};
     return g;
   }
-  static const char* gmsh_ext[] = {".geo", ".msh", ".step", ".stp", ".brep", ".brp"};
-  const bool is_gmsh =
-      std::any_of(std::begin(gmsh_ext), std::end(gmsh_ext), [&](const char* e) { return ext == e; });
-  STRATA_CHECK(
-      is_gmsh, Input,
-      "geometry file {}: unknown extension \"{}\"; allowed: .geo, .msh, .step/.stp, .brep (gmsh) and "
-      ".stl, .off (closed surfaces)",
-      file.string(), ext);
+  STRATA_CHECK(is_gmsh_file(file), Input, "geometry file {}: unknown extension \"{}\"; {}", file.string(),
+               ext, geometry_extensions_text());
 #if STRATA_WITH_GMSH
   return read_gmsh(file, opt);
 #else
   fail_missing_feature("STRATA_WITH_GMSH", fmt::format("gmsh geometry files such as {}", file.string()));
 #endif
+}
+
+namespace {
+template <std::size_t N>
+bool listed(const char* const (&list)[N], const std::string& ext) {
+  return std::any_of(std::begin(list), std::end(list), [&](const char* e) { return ext == e; });
+}
+}  // namespace
+
+bool is_gmsh_file(const fs::path& file) { return listed(kGmshExtensions, lower(file.extension().string())); }
+bool is_surface_file(const fs::path& file) {
+  return listed(kSurfaceExtensions, lower(file.extension().string()));
+}
+
+std::string geometry_extensions_text() {
+  return fmt::format("allowed: {} (gmsh) and {} (closed surfaces)", fmt::join(kGmshExtensions, ", "),
+                     fmt::join(kSurfaceExtensions, ", "));
 }
 
 double distance_to_facet(const SimplexMesh& f, std::size_t e, const Vec3& p) {

@@ -30,17 +30,24 @@ class GmshSession {
       return f();
     } catch (const std::string& e) {
       restart();
-      fail(ErrorKind::Input, "{}: {}", what, e);
+      fail(ErrorKind::Input, "{}: {}", what, explain(e));
     } catch (const strata::Error&) {
       throw;
     } catch (const std::exception& e) {
       restart();
-      fail(ErrorKind::Input, "{}: {}", what, e.what());
+      fail(ErrorKind::Input, "{}: {}", what, explain(e.what()));
     }
   }
 
   /// Last error gmsh logged (empty when none).
   static std::string last_error();
+  /// The version of the gmsh library in use, e.g. "4.8.4" (read once).
+  static const std::string& version();
+  /// "<file>: gmsh 4.8.4 cannot <action>": gmsh errors name gmsh's version, since files
+  /// written for a newer gmsh often use what this one does not know.
+  static std::string cannot(const std::string& file, const std::string& action);
+  /// gmsh's message, with a hint after a syntax error (most often a file for a newer gmsh).
+  static std::string explain(const std::string& message);
 
  private:
   static void restart();

@@ -2,9 +2,11 @@
 #include "strata/preprocess/lattice.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/core/memory.hpp>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 namespace strata::preprocess {
@@ -164,6 +166,24 @@ std::vector<std::uint32_t> in_box(const Lattice& l, std::array<double, 3> lo, st
       if (l.x[i][a] < lo[a] || l.x[i][a] > hi[a]) return false;
     return true;
   });
+}
+
+double sites_in(double measure, double d, int dim) {
+  const double per_site = dim == 2 ? std::sqrt(3.0) / 2 * d * d : d * d * d / std::sqrt(2.0);
+  return measure / per_site;
+}
+
+void check_sites_fit(double sites, int dim, const std::string& what) {
+  const double ids = double(std::numeric_limits<std::uint32_t>::max());
+  const double bytes = sites * (dim == 2 ? 400.0 : 800.0), memory = double(sys::physical_memory_bytes());
+  if (!(sites > ids) && !(memory > 0 && bytes > memory)) return;
+  fail(ErrorKind::Input,
+       "{} would hold about {:.3g} particles: about {:.3g} GB to build, more than {}; allowed: larger "
+       "particles or a smaller region",
+       what, sites, bytes / 1e9,
+       sites > ids
+           ? fmt::format("the {} particles that 32-bit ids number", std::numeric_limits<std::uint32_t>::max())
+           : fmt::format("this machine's {:.3g} GB of memory", memory / 1e9));
 }
 
 }  // namespace strata::preprocess

@@ -90,6 +90,7 @@ SimplexMesh mesh_fem_region(const std::filesystem::path& file, const std::string
   go.mesh_size = opt.size;
   go.mesh_size_min = opt.size_min;
   go.curvature_points = 0;
+  go.unit = opt.unit;
   const Geometry g = read_geometry(file, go);
   STRATA_CHECK(
       !g.surface, Input,

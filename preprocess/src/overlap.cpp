@@ -3,6 +3,7 @@
 
 #include <strata/core/error.hpp>
 #include <strata/preprocess/geometry.hpp>
+#include <strata/preprocess/lattice.hpp>
 #include <strata/preprocess/mesh_fill.hpp>
 
 #include <algorithm>
@@ -118,6 +119,8 @@ OverlapModel build_overlap(const Shape& pb, const std::vector<Shape>& fem_boxes,
                fem_boxes.size());
   STRATA_CHECK(pb.kind == Shape::Kind::Box, Input,
                "overlap: the particle and FEM regions must be boxes (Shape::Kind::Box)");
+  check_sites_fit(sites_in(pb.measure(), opt.d, dim), dim,
+                  fmt::format("the particle region with particles of diameter {} m", opt.d));
   for (const Shape& fb : fem_boxes) {
     STRATA_CHECK(fb.kind == Shape::Kind::Box, Input,
                  "overlap: the particle and FEM regions must be boxes (Shape::Kind::Box)");

@@ -3,6 +3,7 @@
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/preprocess/geometry.hpp>
+#include <strata/preprocess/lattice.hpp>
 #include <strata/preprocess/mesh_fill.hpp>
 #include <strata/preprocess/overlap.hpp>
 
@@ -56,9 +57,10 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
   STRATA_CHECK(std::filesystem::is_regular_file(file), Input,
                "coupled model: geometry file {} does not exist", what);
   detail::GmshSession gs;
-  gs.run(what + ": gmsh cannot read this file", [&] { gmsh::open(file.string()); });
+  gs.run(detail::GmshSession::cannot(what, "read this file"), [&] { gmsh::open(file.string()); });
   const std::string err = detail::GmshSession::last_error();
-  STRATA_CHECK(err.empty(), Input, "{}: gmsh cannot read this file: {}", what, err);
+  STRATA_CHECK(err.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "read this file"),
+               detail::GmshSession::explain(err));
   const int dim = gmsh::model::getDimension();
   STRATA_CHECK(dim == want_dim, Input,
                "{}: the geometry is {}D but the lattice ({}) is {}D; allowed: a hex lattice with a 2D "
@@ -107,6 +109,17 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
                  "without common entities",
                  what, dim == 2 ? "surface" : "volume", e, particle_regions[std::size_t(k)],
                  fem_regions[std::size_t(fem_entity.at(e))]);
+
+  // The particle regions' bounding boxes bound their size: a diameter far too small for them
+  // is refused here, before gmsh meshes down to it.
+  double box_measure = 0;
+  for (const auto& [e, k] : particle_entity) {
+    double lo[3], hi[3];
+    gmsh::model::getBoundingBox(dim, e, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
+    box_measure += (hi[0] - lo[0]) * (hi[1] - lo[1]) * (dim == 3 ? hi[2] - lo[2] : 1.0);
+  }
+  check_sites_fit(sites_in(box_measure, opt.d, dim), dim,
+                  fmt::format("{}: the particle regions, with particles of diameter {} m,", what, opt.d));
 
   // Γ: boundary entities of a particle region that also bound an FEM region.
   auto boundary_of = [&](int entity) {
@@ -157,7 +170,7 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
     // Γ is sampled by the Distance field: about 4 points per diameter along a curve's bounds
     // diagonal (2D); a surface is sampled on an n x n grid, capped for big surfaces (3D).
     const double n = std::ceil(4 * diag / opt.d) + 20;
-    gs.run(what + ": gmsh cannot mesh this geometry", [&] {
+    gs.run(detail::GmshSession::cannot(what, "mesh this geometry"), [&] {
       namespace field = gmsh::model::mesh::field;
       const int fd = field::add("Distance");
       field::setNumbers(fd, dim == 2 ? "CurvesList" : "SurfacesList", gamma_tags);
@@ -172,7 +185,8 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
       gmsh::model::mesh::generate(dim);
     });
     const std::string merr = detail::GmshSession::last_error();
-    STRATA_CHECK(merr.empty(), Input, "{}: gmsh cannot mesh this geometry: {}", what, merr);
+    STRATA_CHECK(merr.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "mesh this geometry"),
+                 detail::GmshSession::explain(merr));
   }
 
   Meshed m;

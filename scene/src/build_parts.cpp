@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <strata/config.hpp>
 #include <strata/core/log.hpp>
+#include <strata/preprocess/geometry.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -36,27 +37,13 @@ template <class T>
                        asks, part.what, part.option, instead.empty() ? "" : ", or " + instead));
 }
 
-std::string lower_extension(const std::filesystem::path& file) {
-  std::string ext = file.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return ext;
-}
-
-/// Geometry files gmsh reads, and closed surfaces CGAL reads (preprocess::read_geometry).
-bool gmsh_file(const std::string& ext) {
-  static const char* kExt[] = {".geo", ".msh", ".step", ".stp", ".brep", ".brp"};
-  return std::any_of(std::begin(kExt), std::end(kExt), [&](const char* e) { return ext == e; });
-}
-bool closed_surface_file(const std::string& ext) { return ext == ".stl" || ext == ".off"; }
-
 void check_regions(const Scene& sc) {
   for (const RegionTable& r : sc.regions) {
     const std::string name = fmt::format("[[region]] '{}'", r.name.value);
     if (r.shape == RegionShape::File) {
-      const std::string ext = lower_extension(r.file.value);
-      if (gmsh_file(ext) && !kGmsh.present)
+      if (preprocess::is_gmsh_file(r.file.value) && !kGmsh.present)
         refuse(r.file, fmt::format("{}: the geometry file {}", name, r.file.value.string()), kGmsh);
-      if (closed_surface_file(ext) && !kCgal.present)
+      if (preprocess::is_surface_file(r.file.value) && !kCgal.present)
         refuse(r.file, fmt::format("{}: the closed surface {}", name, r.file.value.string()), kCgal);
     }
     if (r.kind == RegionKind::Fem && !kGmsh.present)

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include <strata/preprocess/geometry.hpp>
+
 #include "loader_text.hpp"
 #include "table.hpp"
 
@@ -165,16 +167,20 @@ class KeyChecks {
           report(r.where("points"), fmt::format("points has {} corners; a polygon needs at least 3",
                                                 r.real_table("points").size()));
       }
+      if (r.given("mesh_size") && r.str("kind") == "particles" && shape != "file")
+        report(
+            r.where("mesh_size"),
+            fmt::format("mesh_size sets the FEM element size (kind = \"fem\") or the geometry mesh of a "
+                        "particle region read from a file (shape = \"file\"); a {} of particles has no mesh",
+                        shape));
       if (shape == "file") {
         need(region_spec, r, "file", "shape");
         if (r.has("file")) {
-          const std::string ext = lower(fs::path(r.str("file")).extension().string());
-          static const std::vector<std::string> known = {".geo", ".msh", ".step", ".stp", ".stl", ".off"};
-          if (std::find(known.begin(), known.end(), ext) == known.end())
+          const fs::path file(r.str("file"));
+          if (!preprocess::is_gmsh_file(file) && !preprocess::is_surface_file(file))
             report(r.where("file"),
-                   fmt::format("file '{}' is not a geometry file strata reads (allowed: .geo, "
-                               ".msh, .step, .stl, .off)",
-                               fs::path(r.str("file")).filename().string()));
+                   fmt::format("file '{}' is not a geometry file strata reads ({})", file.filename().string(),
+                               preprocess::geometry_extensions_text()));
         }
       }
     }

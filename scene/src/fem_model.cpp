@@ -334,6 +334,10 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
           fmt::format("region '{}' is in {}, the first region in {}: the particle and FEM regions "
                       "of a coupled scene must come from one geometry file",
                       r.name.value, r.file->string(), file));
+    if (r.unit != LengthUnit::Metre)
+      r.unit.fail(
+          "the geometry of a coupled scene is read in metres for now (allowed: unit = \"m\"); scale the "
+          "file to metres (e.g. Dilate in a .geo)");
     if (particles) {
       if (!first_particles) first_particles = &r;
       if (r.diameter.value != first_particles->diameter.value ||

@@ -17,6 +17,7 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -32,6 +33,7 @@ namespace {
 
 using namespace text;  // loader_text.hpp
 
+constexpr std::int64_t kLargestInteger = std::numeric_limits<std::int32_t>::max();
 constexpr std::string_view kSetPath = "--set#";  // source path of override values: "--set#<index>"
 
 struct Problem {
@@ -114,11 +116,11 @@ class Loader {
     const auto first =
         std::min_element(problems_.begin(), problems_.end(),
                          [&](const Problem& a, const Problem& b) { return order(a) < order(b); });
-    throw Error(ErrorKind::Input, first->pos.str() + ": " + first->message);
+    throw SceneError(ErrorKind::Input, first->pos.str() + ": " + first->message);
   }
 
   [[noreturn]] void fail_at(const SourcePos& pos, const std::string& message) const {
-    throw Error(ErrorKind::Input, pos.str() + ": " + message);
+    throw SceneError(ErrorKind::Input, pos.str() + ": " + message);
   }
 
   /// The value as the user wrote it (`-5`, `"fast"`), or TOML-formatted when that is unknown.
@@ -554,6 +556,13 @@ class Loader {
     }
     if (!in_range(key, static_cast<double>(i))) {
       report(pos_of(n), fmt::format("{} = {} must be {}{}", name, raw(n), range_text(key), unit_suffix(key)));
+      return std::nullopt;
+    }
+    // Counts, ratios and cadences end up in ints: a larger value would wrap round (η =
+    // 4294967297 ran as η = 1). No key needs more.
+    if (i > kLargestInteger || i < -kLargestInteger) {
+      report(pos_of(n), fmt::format("{} = {} is too large: integers in a scene are at most {} in size", name,
+                                    raw(n), kLargestInteger));
       return std::nullopt;
     }
     return i;

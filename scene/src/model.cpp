@@ -61,19 +61,39 @@ struct Filled {
   Lattice& lattice() { return fill ? fill->lattice : shape_lattice; }
 };
 
+/// Refuses, at the region's diameter, a region whose particles cannot fit on this machine
+/// (preprocess::check_sites_fit); `total` adds up the regions so far. Large fills say so
+/// before they start.
+void check_fits(const RegionTable& r, int dim, double measure, double& total) {
+  const double n = preprocess::sites_in(measure, r.diameter, dim);
+  total += n;
+  r.diameter.blame([&] {
+    preprocess::check_sites_fit(
+        total, dim,
+        fmt::format("region '{}' with particles of diameter {} m (and the regions before it)", r.name.value,
+                    r.diameter.value));
+  });
+  if (n > 2e6) log::info("region '{}': filling about {:.3g} particles", r.name.value, n);
+}
+
 /// Fills a shape = "file" region; geometry files are read once per path.
-Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind kind, double d,
+Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind kind, double d, double& total,
                         std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
   const std::string file = r.file->string();
-  auto& geo = cache[file];
+  // mesh_size: the largest element of the geometry mesh the inside tests use (0: the file's
+  // own sizes); curved CAD surfaces need it near the particle size to be filled to their volume.
+  auto& geo = cache[fmt::format("{}#{}#{}", file, r.mesh_size.value, metres(r.unit))];
   if (!geo) {
     preprocess::GeometryOptions go;
     go.dim = dim;
-    geo = std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go));
+    go.mesh_size = r.mesh_size;
+    go.unit = metres(r.unit);
+    geo = r.file.blame(
+        [&] { return std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go)); });
   }
   Filled f;
   f.geometry = geo;
-  f.region = geo->region(r.physical);
+  f.region = r.physical.blame([&] { return geo->region(r.physical); });
   preprocess::FillOptions fo;
   fo.kind = kind;
   fo.d = d;
@@ -85,7 +105,8 @@ Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind k
     const preprocess::Bounds b = geo->mesh.bounds();
     fo.origin = preprocess::Vec3{b.lo[0] + d / 2, b.lo[1] + d / 2, dim == 3 ? b.lo[2] + d / 2 : 0.0};
   }
-  f.fill = preprocess::fill_region(*f.region, fo);
+  check_fits(r, dim, f.region->measure(), total);
+  f.fill = r.diameter.blame([&] { return preprocess::fill_region(*f.region, fo); });
   return f;
 }
 
@@ -113,10 +134,11 @@ Filled coupled_region(const RegionTable& r, const preprocess::OverlapModel& ov, 
   if (!geo) {
     preprocess::GeometryOptions go;
     go.dim = dim;
-    geo = std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go));
+    geo = r.file.blame(
+        [&] { return std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go)); });
   }
   f.geometry = geo;
-  f.region = geo->region(r.physical);
+  f.region = r.physical.blame([&] { return geo->region(r.physical); });
   return f;
 }
 
@@ -180,8 +202,9 @@ std::vector<std::uint32_t> select(const GroupTable& g, const Filled& f) {
                         to_string(g.select)));
       const double w = g.width > 0 ? g.width : 2 * l.radius;
       if (g.select == GroupSelect::Physical)
-        return preprocess::physical_group_members(*f.geometry, *f.fill, g.physical, w);
-      return preprocess::hole_rim(*f.region, l, int(g.hole), w);
+        return g.physical.blame(
+            [&] { return preprocess::physical_group_members(*f.geometry, *f.fill, g.physical, w); });
+      return g.hole.blame([&] { return preprocess::hole_rim(*f.region, l, int(g.hole), w); });
     }
     case GroupSelect::All: {
       std::vector<std::uint32_t> all(l.size());
@@ -220,6 +243,7 @@ preprocess::SimplexMesh mesh_fem(const RegionTable& r, int dim) {
   if (r.shape == RegionShape::File) {
     preprocess::FemMeshOptions o;
     o.size = size;
+    o.unit = metres(r.unit);
     return preprocess::mesh_fem_region(r.file->string(), r.physical, dim, o);
   }
   return preprocess::mesh_fem_shape(shape_of(r, dim), size);
@@ -261,6 +285,7 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
   std::map<std::string, std::size_t> region_index;  // groups visit regions by name
   std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
   std::uint32_t next_id = 0;
+  double estimated = 0;  // particles of the regions so far, estimated before each fill
   for (const auto& r : sc.regions) {
     if (r.kind == RegionKind::Fem) {
       if (!allow_fem)
@@ -271,7 +296,10 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
                         "scene or 'strata report wave'",
                         r.name.value));
       // A coupled model's FEM mesh is the overlap's (FEM regions and the overlap ring).
-      if (!coupled) d.fem.push_back(FemRegion{r.name, r.material, mesh_fem(r, dim)});
+      if (!coupled)
+        d.fem.push_back(FemRegion{r.name, r.material,
+                                  blame_at(r.shape == RegionShape::File ? r.file.pos : r.mesh_size.pos,
+                                           [&] { return mesh_fem(r, dim); })});
       continue;
     }
     RegionInfo info;
@@ -285,10 +313,12 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
       f = coupled_region(r, *coupled, dim, geometries);
       info.measure = f.region->mesh.measure();
     } else if (r.shape == RegionShape::File) {
-      f = fill_file_region(r, dim, kind, info.diameter, geometries);
+      f = fill_file_region(r, dim, kind, info.diameter, estimated, geometries);
       info.measure = f.fill->measure;
     } else {
-      f.shape_lattice = preprocess::fill_shape(shape, kind, info.diameter, r.orientation);
+      check_fits(r, dim, shape.measure(), estimated);
+      f.shape_lattice =
+          r.diameter.blame([&] { return preprocess::fill_shape(shape, kind, info.diameter, r.orientation); });
       info.measure = shape.measure();
     }
     if (f.lattice().size() == 0)
@@ -460,7 +490,12 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
   for (std::size_t k = 0; k < d.sites.size(); ++k) {
     const int mat = material_id.at(d.sites[k].material);
     const double rad = d.regions[k].diameter / 2;
-    for (const auto& x : d.sites[k].sites.x) sim.add_particle(x, rad, mat);
+    // a mass that underflows (density 1e-320, say) is the density's fault
+    const auto& table = *std::find_if(sc.materials.begin(), sc.materials.end(),
+                                      [&](const MaterialTable& t) { return t.name == d.sites[k].material; });
+    table.density.blame([&] {
+      for (const auto& x : d.sites[k].sites.x) sim.add_particle(x, rad, mat);
+    });
   }
   for (const auto& g : d.groups) {
     if (g.count == 0) continue;  // a group of FEM nodes only
@@ -589,6 +624,18 @@ BuiltModel build_model(const Scene& sc, bool force) {
   sim.set_dt(std::numeric_limits<double>::min());
   sim.initialise();
   m.dt_crit = sim.critical_dt();
+  if (!(m.dt_crit > 0 && std::isfinite(m.dt_crit)) && !sc.materials.empty()) {
+    // Stiffnesses (or masses) out of any physical range: point at the stiffest spring.
+    const MaterialTable* stiff = &sc.materials.front();
+    for (const auto& t : sc.materials)
+      if (std::max(t.kn.value, t.ks.value) > std::max(stiff->kn.value, stiff->ks.value)) stiff = &t;
+    const Located<double>& k = stiff->ks.value > stiff->kn.value ? stiff->ks : stiff->kn;
+    k.fail(
+        fmt::format("the model's critical time step comes out as {} s: a stiffness of {} N/m with the "
+                    "particle masses of this model is beyond what a time step can resolve; allowed: the "
+                    "stiffnesses and densities of real materials",
+                    m.dt_crit, k.value));
+  }
   const double dt = m.dt_automatic ? solver.dt_safety * m.dt_crit : solver.dt;
   if (dt > m.dt_crit && !set.allow_unstable) {
     const auto [dt_text, crit_text] = distinct_pair(dt, m.dt_crit);

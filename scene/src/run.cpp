@@ -179,7 +179,11 @@ RunResult Run::Impl::execute(RunObserver& observer) {
   RunResult r = finish_result();
   r.step_seconds = run_seconds;
   observer.stepped(r);
-  out.pictures(sc);
+  if (const int reason = out.pictures(sc, [&] { return observer.stop_requested(); })) {
+    // Every step and file is there; only pictures are missing (`strata render` draws them).
+    r.status = RunStatus::PicturesInterrupted;
+    r.stop_reason = reason;
+  }
   r.written = out.written();
   return r;
 }

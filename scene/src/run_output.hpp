@@ -15,6 +15,7 @@
 #include <strata/scene/scene.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -310,11 +311,15 @@ class RunOutput {
     if (fem_on_ && !fem_->frames().empty()) written_.push_back(fem_->pvd_path());
   }
 
-  /// Plots and pictures (needs STRATA_WITH_RENDER).
-  void pictures(const Scene& sc) {
-    if (!out_.render) return;
+  /// Plots and pictures (needs STRATA_WITH_RENDER). `stop_requested` is asked before each
+  /// picture: a non-zero answer stops drawing (the pictures drawn so far stay) and is returned.
+  int pictures(const Scene& sc, const std::function<int()>& stop_requested) {
+    if (!out_.render) return 0;
+    int reason = 0;
+    const std::function<bool()> stop = [&] { return (reason = stop_requested()) != 0; };
 #if STRATA_WITH_RENDER
     const std::string& title = title_;
+    if (stop()) return reason;
     if (!stress_.empty()) {
       io::PlotRequest p;
       p.title = title.empty() ? "Axial stress against axial strain" : title;
@@ -352,22 +357,26 @@ class RunOutput {
         std::vector<fs::path> pngs;
         if (particles_on_) {
           pngs = io::render_series(particles_->pvd_path(), dir_ / "png", render_style(), bonds_->pvd_path(),
-                                   fem_on_ ? fem_->pvd_path() : fs::path());
+                                   fem_on_ ? fem_->pvd_path() : fs::path(), stop);
         } else {
           std::vector<fs::path> meshes;
           for (const auto& f : fem_->frames()) meshes.push_back(dir_ / f.file);
-          pngs = io::render_frames({}, dir_ / "png", render_style(), {}, meshes);
+          pngs = io::render_frames({}, dir_ / "png", render_style(), {}, meshes, stop);
         }
-        if (pngs.empty()) return;
+        if (!pngs.empty()) written_.push_back(dir_ / "png" / "");
+        if (reason != 0 || pngs.empty()) return reason;
+      } else {
+        written_.push_back(dir_ / "png" / "");
       }
-      written_.push_back(dir_ / "png" / "");
-      if (out_.movie && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
+      if (out_.movie && !stop() && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
         written_.push_back(dir_ / "movie.mp4");
     }
 #else
     (void)sc;
+    (void)stop;
     log::warn("pictures skipped: this build has no rendering (reconfigure with -DSTRATA_WITH_RENDER=ON)");
 #endif
+    return reason;
   }
 
   /// Drops frames later than `time` from the series (they may hold a blow-up in progress);

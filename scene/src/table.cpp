@@ -16,7 +16,7 @@ std::string SourcePos::str() const {
 }
 
 void fail_at(const SourcePos& pos, const std::string& message) {
-  throw Error(ErrorKind::Input, pos.str() + ": " + message);
+  throw SceneError(ErrorKind::Input, pos.str() + ": " + message);
 }
 
 SourcePos Table::where(const std::string& key) const {

@@ -20,9 +20,9 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `strata ARGS` (the binary under test) and returns its exit status and output.
-inline Result strata(const std::string& args) {
-  const std::string cmd = std::string(STRATA_EXE) + " " + args + " 2>&1";
+/// Runs a shell command and returns its exit status and output (stdout and stderr together).
+inline Result strata_command(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   Result r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -31,6 +31,15 @@ inline Result strata(const std::string& args) {
   const int st = pclose(p);
   r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
   return r;
+}
+
+/// Runs `strata ARGS` (the binary under test) and returns its exit status and output.
+inline Result strata(const std::string& args) { return strata_command(std::string(STRATA_EXE) + " " + args); }
+
+/// `strata ARGS` stopped after `seconds` (exit status 124, or 137 when it ignores SIGTERM).
+inline Result strata_within(int seconds, const std::string& args) {
+  return strata_command("timeout -k 5 " + std::to_string(seconds) + " " + std::string(STRATA_EXE) + " " +
+                        args);
 }
 
 /// A fresh directory for one test.

@@ -92,8 +92,9 @@ TEST(CliEcc, RunStartsUnloadedAndIsSofterThanTheRegularLattice) {
       std::stringstream ss(line);
       std::string cell;
       for (std::size_t c = 0; c < names.size() && std::getline(ss, cell, ','); ++c)
-        if (names[c] == "kinetic_energy" || names[c] == "bond_energy" || names[c].rfind("broken_", 0) == 0)
+        if (names[c] == "kinetic_energy" || names[c] == "bond_energy" || names[c].rfind("broken_", 0) == 0) {
           EXPECT_EQ(std::stod(cell), 0.0) << names[c] << " in " << line;
+        }
       ++rows;
     }
     EXPECT_GT(rows, 1);

@@ -155,3 +155,52 @@ steps = 2
   EXPECT_GT(j["bonds"].get<std::size_t>(), 0u);
   fs::remove_all(d);
 }
+
+// gmsh's structured extrusions (Extrude { ... Layers{...}; }, with and without Recombine) are
+// meshed by gmsh's extruded-mesh code, which once crashed calling Eigen kernels that the
+// `strata` program exported in place of gmsh's own.
+TEST(CliMesh, StructuredExtrusionsAreMeshedIn2DAnd3D) {
+  if (!have_gmsh()) GTEST_SKIP() << "a .geo file: needs STRATA_WITH_GMSH";
+  const fs::path d = temp_dir("mesh_extruded");
+  write(d, "strip.geo", R"(lc = 0.1;
+Point(1) = {0, 0, 0, lc};
+Point(2) = {1, 0, 0, lc};
+Line(1) = {1, 2};
+out[] = Extrude {0, 0.5, 0} { Line{1}; Layers{5}; Recombine; };
+Physical Surface("rock") = {out[1]};
+)");
+  write(d, "slab.geo", R"(lc = 0.25;
+Point(1) = {0, 0, 0, lc};
+Point(2) = {1, 0, 0, lc};
+Point(3) = {1, 1, 0, lc};
+Point(4) = {0, 1, 0, lc};
+Line(1) = {1, 2};
+Line(2) = {2, 3};
+Line(3) = {3, 4};
+Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4};
+Plane Surface(1) = {1};
+out[] = Extrude {0, 0, 0.5} { Surface{1}; Layers{4}; };
+Physical Volume("rock") = {out[1]};
+)");
+  for (const auto& [dim, geo] : {std::pair{2, "strip.geo"}, std::pair{3, "slab.geo"}}) {
+    const fs::path scene = write(d, "scene" + std::to_string(dim) + ".toml",
+                                 "[scene]\ndimension = " + std::to_string(dim) + "\n" + kElasticRock + R"(
+[[region]]
+name = "rock"
+kind = "fem"
+material = "rock"
+shape = "file"
+file = ")" + (d / geo).string() + R"("
+physical = "rock"
+mesh_size = 0.1
+
+[solver]
+steps = 2
+)");
+    const json j = mesh_json(scene.string() + " -o " + (d / ("out" + std::to_string(dim))).string());
+    ASSERT_TRUE(j.contains("fem_elements")) << geo << ": " << j.dump();
+    EXPECT_GT(j["fem_elements"].get<std::size_t>(), 10u) << geo;
+    EXPECT_GT(j["fem_nodes"].get<std::size_t>(), 10u) << geo;
+  }
+}

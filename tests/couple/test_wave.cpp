@@ -84,7 +84,9 @@ TEST(Wave, ReflectionIsSmallForLongPulsesAndFallsWithWavelength) {
     std::printf("lambda %g d, eta 1: R %.3e\n", lambda, r.r_peak);
     EXPECT_LT(r.r_peak, prev);
     prev = r.r_peak;
-    if (lambda == 80) EXPECT_LT(r.r_peak, 3e-3);
+    if (lambda == 80) {
+      EXPECT_LT(r.r_peak, 3e-3);
+    }
   }
 }
 

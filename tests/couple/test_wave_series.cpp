@@ -56,7 +56,9 @@ void check_series(const fs::path& dir, std::size_t frames, Counts& out) {
   EXPECT_EQ(pe.front().time, 0.0);
   for (std::size_t k = 0; k < frames; ++k) {
     EXPECT_EQ(pe[k].time, fe[k].time) << "frame " << k;  // the same times on both sides
-    if (k > 0) EXPECT_GT(pe[k].time, pe[k - 1].time);
+    if (k > 0) {
+      EXPECT_GT(pe[k].time, pe[k - 1].time);
+    }
   }
 
   // Reference positions of the particles (frame 0: nothing has moved yet), by id.

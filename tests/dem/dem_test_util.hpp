@@ -12,7 +12,7 @@ namespace strata::dem::test {
 
 /// Micro-parameters of the rock of Liu, Pollard & Shi (2013).
 inline Material c1_material(bool breakable = true) {
-  Material m = spec_c1_rock();
+  Material m = liu2013_rock();
   if (!breakable) m.tensile_strength = m.shear_strength = std::numeric_limits<double>::infinity();
   return m;
 }

@@ -195,7 +195,8 @@ TEST(Examples, EveryQuickSceneRuns) {
   }
   // Also every example with a full scene has a quick variant beside it.
   for (const auto& dir : fs::directory_iterator(kExamples))
-    if (fs::exists(dir.path() / "scene.toml"))
+    if (fs::exists(dir.path() / "scene.toml")) {
       EXPECT_TRUE(fs::exists(dir.path() / "quick.toml")) << dir.path();
+    }
   SUCCEED() << n << " further examples ran";
 }

@@ -339,10 +339,46 @@ TEST_F(IoTest, ResumeTruncatesFramesAfterTheCheckpoint) {
   s.truncate_after(0.5);  // checkpoint at t = 0.5: frames at 1.0 and 1.5 are redone
   ASSERT_EQ(read_pvd(s.pvd_path()).size(), 2u);
   EXPECT_EQ(s.next_frame_path(), dir_ / "particles_000002.vtp");
+  // The truncated frames' files are gone with them: the folder holds what the .pvd lists.
+  EXPECT_FALSE(fs::exists(dir_ / "particles_000002.vtp"));
+  EXPECT_FALSE(fs::exists(dir_ / "particles_000003.vtp"));
   Series fresh(dir_, "particles");
   EXPECT_TRUE(fresh.frames().empty());
   fresh.add_particles(0, p.cloud);
   EXPECT_EQ(read_pvd(s.pvd_path()).size(), 1u);
+}
+
+// A run into the folder of an earlier, longer run (or after a kill) leaves no frame that its
+// .pvd does not list; other files in the folder are left alone.
+TEST_F(IoTest, NoFrameOutsideTheIndexIsLeftBehind) {
+  auto p = hex_patch(3, 3);
+  {
+    Series s(dir_, "particles");
+    for (int k = 0; k < 5; ++k) s.add_particles(0.5 * k, p.cloud);
+  }
+  std::ofstream(dir_ / "notes.txt") << "mine";
+  std::ofstream(dir_ / "bonds_000007.vtp") << "another series";
+  {
+    Series s(dir_, "particles");  // a fresh run with two frames
+    s.add_particles(0.0, p.cloud);
+    s.add_particles(1.0, p.cloud);
+  }
+  auto frames_on_disk = [&] {
+    std::size_t n = 0;
+    for (const auto& f : fs::directory_iterator(dir_))
+      n += f.path().filename().string().starts_with("particles_");
+    return n;
+  };
+  EXPECT_EQ(read_pvd(dir_ / "particles.pvd").size(), 2u);
+  EXPECT_EQ(frames_on_disk(), 2u) << "frames 2 to 4 of the earlier run are gone";
+  EXPECT_TRUE(fs::exists(dir_ / "notes.txt"));
+  EXPECT_TRUE(fs::exists(dir_ / "bonds_000007.vtp"));
+
+  // Killed after writing frame 2 but before listing it: a restart removes it.
+  fs::copy_file(dir_ / "particles_000001.vtp", dir_ / "particles_000002.vtp");
+  Series resumed(dir_, "particles", Series::Mode::Resume);
+  EXPECT_EQ(resumed.frames().size(), 2u);
+  EXPECT_EQ(frames_on_disk(), 2u);
 }
 
 #else  // !STRATA_WITH_VTK

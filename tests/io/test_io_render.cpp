@@ -217,6 +217,108 @@ TEST_F(IoTest, ClipPlaneRemovesTheNormalSide) {
   EXPECT_GT(count_in_model_area(clipped, not_background), 5000u);  // the camera is refitted, not empty
 }
 
+namespace {
+/// An n x n x n block of spheres (radius 0.5 on a unit grid), in one colour; with `notch`,
+/// the corner octant i, j, k >= n/2 (the corner nearest the default camera) is left out.
+PointCloud sphere_block(int n, bool notch) {
+  PointCloud c;
+  c.dim = 3;
+  Array radius{std::string(kRadiusArray), 1, {}};
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        if (notch && i >= n / 2 && j >= n / 2 && k >= n / 2) continue;
+        c.xyz.insert(c.xyz.end(), {1.0 * i, 1.0 * j, 1.0 * k});
+        radius.values.push_back(0.5);
+      }
+  c.point_data = {radius};
+  return c;
+}
+
+/// Bonds of sphere_block(n, false) to the +x, +y and +z neighbours, all intact except the
+/// x bonds between i = n/2 - 1 and n/2 with 2 <= j, k <= n - 4: a square of tensile cracks
+/// across the middle of the block, three or more spheres inside every face the default
+/// camera sees.
+LineSet interior_crack_bonds(int n) {
+  LineSet b;
+  Array state{std::string(kBondStateArray), 1, {}, ArrayType::Int32};
+  auto id = [n](int i, int j, int k) { return static_cast<std::int64_t>((k * n + j) * n + i); };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        for (int axis = 0; axis < 3; ++axis) {
+          const int q[3] = {i + (axis == 0), j + (axis == 1), k + (axis == 2)};
+          if (q[0] >= n || q[1] >= n || q[2] >= n) continue;
+          b.ends.insert(b.ends.end(), {id(i, j, k), id(q[0], q[1], q[2])});
+          const bool crack = axis == 0 && i == n / 2 - 1 && j >= 2 && j <= n - 4 && k >= 2 && k <= n - 4;
+          state.values.push_back(crack ? static_cast<double>(BondState::BrokenTension) : 0.0);
+        }
+  b.cell_data = {state};
+  return b;
+}
+
+/// Mean brightness (0..255) of each square tile of `tile` pixels, row by row.
+std::vector<double> tile_brightness(const Image& img, int tile) {
+  const int tx = img.width / tile, ty = img.height / tile;
+  std::vector<double> out(static_cast<std::size_t>(tx * ty), 0.0);
+  for (int y = 0; y < ty * tile; ++y)
+    for (int x = 0; x < tx * tile; ++x) {
+      const auto& p = img.pixels[static_cast<std::size_t>(y * img.width + x)];
+      out[static_cast<std::size_t>((y / tile) * tx + x / tile)] += (p[0] + p[1] + p[2]) / 3.0;
+    }
+  for (auto& v : out) v /= tile * tile;
+  return out;
+}
+
+bool crack_red(int r, int g, int b) { return r > 160 && g < 80 && b < 80; }
+}  // namespace
+
+// A block with its corner octant removed, seen from the default direction (the missing
+// corner is the one nearest the camera, so the outline is the same as the whole block's):
+// the faces inside the notch face other ways than the block's faces seen in the same place,
+// so they must be shaded differently, and many tiles of the picture must differ clearly
+// in brightness from the whole block's picture.
+TEST_F(IoTest, MissingCornerOfA3DBlockIsVisible) {
+  const PointCloud whole = sphere_block(8, false), notched = sphere_block(8, true);
+  RenderRequest rq;
+  rq.style.width = 400;
+  rq.style.height = 300;
+  rq.particles = &whole;
+  rq.png = dir_ / "block_whole.png";
+  render_frame(rq);
+  rq.particles = &notched;
+  rq.png = dir_ / "block_notched.png";
+  render_frame(rq);
+  const auto a = tile_brightness(read_png(dir_ / "block_whole.png"), 20),
+             b = tile_brightness(read_png(dir_ / "block_notched.png"), 20);
+  ASSERT_EQ(a.size(), b.size());
+  std::size_t differ = 0;
+  for (std::size_t t = 0; t < a.size(); ++t) differ += std::abs(a[t] - b[t]) > 25;
+  EXPECT_GE(differ, 15u) << "of " << a.size() << " tiles";
+}
+
+// Broken bonds deep inside a block cannot be seen from outside: no crack colour is drawn
+// over the block. A clip plane through the cracks opens the block and shows them.
+TEST_F(IoTest, HiddenCracksIn3DAreNotDrawnUntilAClipPlaneOpensThem) {
+  const int n = 10;
+  const PointCloud block = sphere_block(n, false);
+  const LineSet bonds = interior_crack_bonds(n);
+  RenderRequest rq;
+  rq.particles = &block;
+  rq.bonds = &bonds;
+  rq.style.width = 400;
+  rq.style.height = 300;
+  rq.png = dir_ / "cracks_hidden.png";
+  render_frame(rq);
+  rq.style.clip_plane = std::array<double, 6>{n / 2 - 0.4, 0, 0, 1, 0, 0};  // cuts the cracked bonds
+  rq.png = dir_ / "cracks_cut.png";
+  render_frame(rq);
+  const auto hidden = count_in_model_area(read_png(dir_ / "cracks_hidden.png"), crack_red);
+  const auto cut = count_in_model_area(read_png(dir_ / "cracks_cut.png"), crack_red);
+  EXPECT_EQ(hidden, 0u);
+  EXPECT_GT(cut, 1000u);
+}
+
 TEST_F(IoTest, UpVectorAlongTheViewIsRefused) {
   const PointCloud c = sphere_cube();
   RenderRequest rq;

@@ -7,6 +7,17 @@
 /// `<path>.tmp` and renamed onto `<path>` by commit(), so a run killed while writing leaves
 /// the previous checkpoint intact.
 ///
+/// Integrity: a checkpoint is written in the HDF5 1.10 file format, in which the superblock,
+/// every object header (these hold the root attributes, each group's list of members and
+/// each data set's type, size and layout) and every chunk index carry a checksum (Jenkins
+/// lookup3), and every non-empty array is stored in chunks (at most 2^20 elements each) with
+/// HDF5's Fletcher32 filter, a checksum of each chunk's bytes; empty arrays have no data.
+/// Opening a checkpoint reads every data set once, so every checksum in the file is checked
+/// before the caller gets anything: a file changed after it was written (one flipped bit
+/// included) is refused with strata::Error (IO) naming the file and the part that fails.
+/// Only a change in bytes that HDF5 does not use (free space between objects) passes, and
+/// it changes nothing that is read.
+///
 /// Builds without HDF5 (STRATA_WITH_HDF5 off) throw strata::Error (Unsupported) naming the
 /// option from every function here.
 #include <strata/core/state_io.hpp>
@@ -48,8 +59,9 @@ class CheckpointWriter final : public StateWriter {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Reads a checkpoint. Opening fails with strata::Error (IO) when the file is missing or is
-/// not a strata checkpoint.
+/// Reads a checkpoint. Opening fails with strata::Error (IO) when the file is missing, is
+/// not a strata checkpoint, or is damaged (some checksum does not match); it reads the whole
+/// file once to check that. Checkpoints of another format version are refused (Input).
 class CheckpointReader final : public StateReader {
  public:
   explicit CheckpointReader(const std::filesystem::path& path);

@@ -4,15 +4,18 @@
 /// Particles are drawn as disks (2D, orthographic camera looking down -z, fitted to the
 /// bounds) or spheres (3D, perspective camera along a given direction, optional clip
 /// plane), coloured by a point array with a colour bar. Broken bonds are drawn on top as
-/// thick lines coloured by mode (tension, shear, closed again) with a legend and counts;
-/// intact bonds and contacts only when asked. A FEM mesh (MeshFrame) is drawn shaded by a
-/// point or cell array of the same name, alone or under the particles of a coupled model,
-/// with the same colour bar, clip plane and camera. A label gives the time and step.
-/// Call ensure_display() first (render_frame does it).
-/// Without STRATA_WITH_RENDER these functions throw strata::Error (Unsupported).
+/// thick lines (2D) or discs (3D) coloured by mode (tension, shear, closed again) with a
+/// legend and counts; in 3D only those next to a particle the picture shows (on the surface,
+/// or on the clip plane's cut), and particles are shaded by the face of the assembly they sit
+/// on, so that the shape and its damage read in depth. Intact bonds and contacts only when asked. A FEM mesh
+/// (MeshFrame) is drawn shaded by a point or cell array of the same name, alone or under the particles of a
+/// coupled model, with the same colour bar, clip plane and camera. A label gives the time and step. Call
+/// ensure_display() first (render_frame does it). Without STRATA_WITH_RENDER these functions throw
+/// strata::Error (Unsupported).
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -89,12 +92,14 @@ void render_frame(const RenderRequest& request);
 /// particle series (.vtp frames) or a FEM series (.vtu frames, recognised by the
 /// extension of its first frame). Bonds come from `bonds_pvd` and a mesh under the
 /// particles from `mesh_pvd` when given: their frames are matched to the main frames by
-/// time. Returns the PNG paths in order.
+/// time. Returns the PNG paths in order. `stop`, when given, is asked before each frame:
+/// true stops drawing, and the pictures drawn so far are returned.
 std::vector<std::filesystem::path> render_series(const std::filesystem::path& pvd,
                                                  const std::filesystem::path& out_dir,
                                                  const RenderStyle& style,
                                                  const std::filesystem::path& bonds_pvd = {},
-                                                 const std::filesystem::path& mesh_pvd = {});
+                                                 const std::filesystem::path& mesh_pvd = {},
+                                                 const std::function<bool()>& stop = {});
 
 /// Same, from explicit lists of frame files: particles (.vtp), bonds and meshes (.vtu),
 /// each empty or as long as the longest list (an empty path: none in that frame).
@@ -102,7 +107,8 @@ std::vector<std::filesystem::path> render_frames(const std::vector<std::filesyst
                                                  const std::filesystem::path& out_dir,
                                                  const RenderStyle& style,
                                                  const std::vector<std::filesystem::path>& bond_files = {},
-                                                 const std::vector<std::filesystem::path>& mesh_files = {});
+                                                 const std::vector<std::filesystem::path>& mesh_files = {},
+                                                 const std::function<bool()>& stop = {});
 
 /// Encodes `<png_dir>/frame_%06d.png` into an H.264 movie (libx264, yuv420p, padded to
 /// even size) when `ffmpeg` is on PATH; otherwise logs that ffmpeg is not installed and

@@ -42,8 +42,10 @@ class Series {
     Resume,  ///< keep the frames listed in the old .pvd (restart); see truncate_after
   };
 
-  /// Creates `dir` if needed. Stale `<name>_*.vtp.tmp`, `<name>_*.vtu.tmp` and `<name>.pvd.tmp` files left by
-  /// a killed run are removed.
+  /// Creates `dir` if needed. Files of this series that the series will not list are removed
+  /// with a warning naming how many: unfinished `.tmp` files a killed run left; frames (and
+  /// the .pvd) of an earlier run in the same folder (Fresh); frames the old .pvd does not list
+  /// (Resume). A folder never holds frames that its .pvd leaves out.
   Series(std::filesystem::path dir, std::string name, Mode mode = Mode::Fresh);
 
   /// Writes the next frame's particles (write_particles) and updates the .pvd.
@@ -63,8 +65,9 @@ class Series {
   std::filesystem::path add_frame(double time, const std::function<void(const std::filesystem::path&)>& write,
                                   const std::string& ext = ".vtp");
 
-  /// Drops frames with time > `time` from the index (for a restart from a checkpoint at
-  /// `time`); the .pvd is rewritten at once. The next frame number follows the last kept frame.
+  /// Drops frames with time > `time` from the index and their files (for a restart from a
+  /// checkpoint at `time`); the .pvd is rewritten at once. The next frame number follows the
+  /// last kept frame.
   void truncate_after(double time);
 
   /// Path the next frame will get: `<dir>/<name>_<NNNNNN><ext>`.
@@ -77,6 +80,9 @@ class Series {
 
  private:
   void renumber();
+  /// Removes the files of this series in dir_ that entries_ does not list (frames and
+  /// `.tmp` files; the .pvd too when `pvd_too`); returns how many.
+  std::size_t remove_unlisted(bool pvd_too);
 
   std::filesystem::path dir_;
   std::string name_;

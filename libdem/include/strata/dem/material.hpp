@@ -16,7 +16,7 @@ struct Material {
   double shear_strength = std::numeric_limits<double>::infinity();    ///< Fs0 (N)
   /// true (default, criterion (5) of Liu, Pollard & Shi 2013): an intact bond breaks in
   /// shear when |Fs| > Fs0 + μ·max(Fn, 0); false: when |Fs| > Fs0. With the rock of
-  /// spec_c1_rock() true gives the published curve (peak strain 3.06e-3 against 2.8e-3;
+  /// liu2013_rock() true gives the published curve (peak strain 3.06e-3 against 2.8e-3;
   /// false: 1.80e-3).
   bool friction_strengthens_bonds = true;
   /// Pair law by name: a row of kLaws (laws.hpp) or a law added with register_law()

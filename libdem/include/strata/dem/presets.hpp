@@ -7,7 +7,7 @@ namespace strata::dem {
 /// The rock of Liu, Pollard & Shi (2013) for 1 mm disks:
 /// Kn = 6.587e10 N/m, Ks = 2.371e10 N/m, μ = 0.239, ρ = 2.65e3 kg/m² (per unit thickness;
 /// used as kg/m³ in 3D), Fn_max = 1.252e4 N, Fs0 = 3.690e4 N, default shear criterion.
-inline Material spec_c1_rock() {
+inline Material liu2013_rock() {
   Material m;
   m.density = 2.65e3;
   m.kn = 6.587e10;

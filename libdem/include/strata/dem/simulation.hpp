@@ -244,7 +244,7 @@ class Simulation {
 };
 
 /// λmax of the infinite 2D hex lattice (1/s²) for equal masses m, from the dynamical matrix
-/// over the Brillouin zone. For Kn >= 2Ks (e.g. the rock of spec_c1_rock()) it is (6Kn+2Ks)/m (the M point);
+/// over the Brillouin zone. For Kn >= 2Ks (e.g. the rock of liu2013_rock()) it is (6Kn+2Ks)/m (the M point);
 /// for Kn = Ks it is 9Kn/m (the K point); in between the maximum lies on the M-K edge.
 double hex_lattice_lambda_max(double kn, double ks, double mass);
 

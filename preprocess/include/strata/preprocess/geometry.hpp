@@ -32,6 +32,7 @@ struct GeometryOptions {
   double mesh_size = 0;       ///< largest element of the inside-test mesh (m); 0: the file's sizes
   double mesh_size_min = 0;   ///< smallest element (m); 0: no bound
   int curvature_points = 36;  ///< at least this many elements on a full circle (gmsh MinimumCirclePoints)
+  double unit = 1;            ///< metres per unit of the file's coordinates (1e-3: a file in mm)
 };
 
 /// One region of a geometry: what a lattice fills.
@@ -94,6 +95,20 @@ class Geometry {
 /// dimension, or one with no region of the top dimension. Without gmsh (CGAL) in this build,
 /// gmsh (STL/OFF) files give Error(Unsupported).
 Geometry read_geometry(const std::filesystem::path& file, const GeometryOptions& opt = {});
+
+/// Extensions (lower case) of the geometry files strata reads: gmsh's, and the closed
+/// triangle surfaces CGAL reads. One list for the readers, the scene checks and the messages.
+inline constexpr const char* kGmshExtensions[] = {".geo", ".msh", ".step", ".stp", ".brep", ".brp"};
+inline constexpr const char* kSurfaceExtensions[] = {".stl", ".off"};
+/// Which reader takes `file` (by its extension, in any case): gmsh, CGAL, or neither.
+bool is_gmsh_file(const std::filesystem::path& file);
+bool is_surface_file(const std::filesystem::path& file);
+/// "allowed: .geo, .msh, .step, .stp, .brep, .brp (gmsh) and .stl, .off (closed surfaces)".
+std::string geometry_extensions_text();
+
+/// The version of the gmsh library this build reads geometry files with (e.g. "4.8.4"); empty
+/// in a build without gmsh.
+std::string gmsh_version();
 
 /// Distance from p to the nearest facet of `facets` (segments or triangles), brute force;
 /// for many queries use BoundaryDistance.

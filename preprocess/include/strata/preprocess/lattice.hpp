@@ -8,6 +8,7 @@
 /// to top), left to right.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace strata::preprocess {
@@ -46,6 +47,18 @@ Lattice close_packed_box(Packing packing, std::array<double, 3> lo, std::array<d
 /// Number of sites a lattice of about n particles needs: the side of a square (2D) or cube
 /// (3D) box that holds about n sites of diameter d.
 double box_side_for(int dim, std::int64_t n, double d);
+
+/// About how many sites a lattice of spacing d puts in a region of `measure`: area in 2D
+/// (√3/2·d² per site of the hexagonal lattice), volume in 3D (d³/√2 per site of a close
+/// packing).
+double sites_in(double measure, double d, int dim);
+
+/// Throws Error(Input) "<what> would hold about N particles ...: about X GB to build, more than
+/// ..." when `sites` particles cannot be built on this machine: more than 32-bit particle ids
+/// count, or more than its memory at about 400 bytes per disk (800 per sphere: sites,
+/// particles and bonds while a model is built). Checked before a lattice is filled, so that a
+/// tiny diameter is refused at once instead of filling for hours or running out of memory.
+void check_sites_fit(double sites, int dim, const std::string& what);
 
 // ---- selections (indices into the lattice, ascending) -----------------------------------
 /// Sites of the highest / lowest row (2D); in 3D the highest / lowest layer.

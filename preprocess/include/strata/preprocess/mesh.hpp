@@ -40,6 +40,7 @@ struct FemMeshOptions {
   double size = 0;      ///< target element size (m); 0: the geometry file's own sizes
   double size_min = 0;  ///< smallest element size (m); 0: no bound
   int order = 1;        ///< element order (only linear elements are produced for now)
+  double unit = 1;      ///< metres per unit of the geometry file's coordinates
 };
 
 /// Triangles (2D) or tetrahedra (3D) of the named physical group of a geometry file (all

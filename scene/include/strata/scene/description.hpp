@@ -8,6 +8,8 @@
 /// messages that point at the scene line) and whether the user wrote it. A key with a
 /// default always has a value (given = false when defaulted); a key without one has
 /// given = false and a value-initialised T when the scene leaves it out.
+#include <strata/core/error.hpp>
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -27,8 +29,29 @@ struct SourcePos {
   std::string str() const;
 };
 
-/// Throws an Input error "file:line:col: message" pointing at `pos`.
+/// An error that names its place in a scene file ("file:line:col: message").
+class SceneError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// Throws an Input error "file:line:col: message" pointing at `pos` (a SceneError).
 [[noreturn]] void fail_at(const SourcePos& pos, const std::string& message);
+
+/// Runs f(). An Input or Unsupported error it throws that names no place in the scene gets
+/// `pos` in front: what a key names (a geometry file, a physical group, a shape, a density)
+/// is where an error of building from it comes from.
+template <class F>
+decltype(auto) blame_at(const SourcePos& pos, F&& f) {
+  try {
+    return std::forward<F>(f)();
+  } catch (const SceneError&) {
+    throw;
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Input && e.kind() != ErrorKind::Unsupported) throw;
+    throw SceneError(e.kind(), pos.str() + ": " + e.what());
+  }
+}
 
 /// A value of a scene key with its position: where the value was written, or the table's
 /// header when the key was defaulted or left out.
@@ -43,6 +66,11 @@ struct Located {
   const T* operator->() const { return &value; }
   /// Throws an Input error "file:line:col: message" pointing at this value.
   [[noreturn]] void fail(const std::string& message) const { fail_at(pos, message); }
+  /// blame_at(pos, f): an unlocated Input error of f() points at this key.
+  template <class F>
+  decltype(auto) blame(F&& f) const {
+    return blame_at(pos, std::forward<F>(f));
+  }
 
   /// `region.name == "rock"`, `boundary.group != name` (numbers and enums compare through
   /// the conversion above).
@@ -60,6 +88,10 @@ enum class RegionKind { Particles, Fem };
 enum class RegionShape { Box, Disk, Sphere, Polygon, File };
 /// [[region]] eccentricity (ECC4D, Zhao et al. 2021): none, Type A (cube) or Type B (sphere).
 enum class RegionEccentricity { None, Cube, Sphere };
+/// [[region]] unit: the length unit of a geometry file's coordinates.
+enum class LengthUnit { Metre, Centimetre, Millimetre, Kilometre };
+/// Metres in one `unit`.
+double metres(LengthUnit unit);
 /// [[group]] select: which particles (or FEM nodes) of the region a group holds.
 enum class GroupSelect {
   All,
@@ -139,6 +171,7 @@ struct RegionTable {
   Located<double> radius;                            ///< m; given for shape = disk or sphere
   Located<std::vector<std::vector<double>>> points;  ///< m, [[x, y], ...]; given for shape = polygon
   Located<std::filesystem::path> file;               ///< given for shape = file
+  Located<LengthUnit> unit;                          ///< of the file's coordinates
   Located<double> orientation;                       ///< degrees
   Located<double> mesh_size;                         ///< m; 0: automatic
   Located<std::string> physical;          ///< gmsh physical group of shape = file; empty: the whole geometry

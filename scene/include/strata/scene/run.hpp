@@ -31,6 +31,9 @@ struct RunOptions {
 enum class RunStatus {
   Completed,    ///< every step done, every output written
   Interrupted,  ///< stopped on request (RunObserver::stop_requested) with a checkpoint
+  /// Every step done and every file written, but drawing the pictures stopped on request:
+  /// the pictures drawn so far are kept (`strata render` draws the rest).
+  PicturesInterrupted,
 };
 
 /// What a run wrote and where it stopped.
