@@ -144,8 +144,10 @@ std::string csv(const CompareResult& res) {
     const bool done = r.status == "completed";
     s += fmt::format("{},{},{},{},{},{},{},{}", r.label, r.eta, r.status, r.particles, r.fem_nodes, r.steps,
                      done ? num(r.seconds) : "nan", done ? num(r.error) : "nan");
-    for (std::size_t i = 0; i < res.gauges.size(); ++i)
-      s += "," + (done && i < r.gauge_errors.size() ? num(r.gauge_errors[i]) : std::string("nan"));
+    for (std::size_t i = 0; i < res.gauges.size(); ++i) {
+      s += ',';
+      s += done && i < r.gauge_errors.size() ? num(r.gauge_errors[i]) : std::string("nan");
+    }
     s += "\n";
   }
   return s;
