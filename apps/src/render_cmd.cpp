@@ -77,13 +77,12 @@ int render_series_cmd(const RenderOptions& opt) {
     style.clip_plane = c;
   }
   const auto dir = opt.output.empty() ? opt.series.parent_path() / "png" : opt.output;
-  // The bonds series written beside the particles, if there is one.
-  std::filesystem::path bonds;
-  if (!mesh_series) {
-    bonds = opt.series.parent_path() / "bonds.pvd";
-    if (!std::filesystem::exists(bonds)) bonds.clear();
-  }
-  const auto pngs = io::render_series(opt.series, dir, style, bonds, opt.mesh);
+  // The bonds and walls series written beside the particles, if there are.
+  io::SeriesPaths series{opt.series, {}, opt.mesh, {}};
+  if (!mesh_series)
+    for (auto [path, name] : {std::pair{&series.bonds, "bonds.pvd"}, std::pair{&series.walls, "walls.pvd"}})
+      if (std::filesystem::exists(opt.series.parent_path() / name)) *path = opt.series.parent_path() / name;
+  const auto pngs = io::render_series(series, dir, style);
   std::printf("wrote %zu pictures in %s\n", pngs.size(), dir.string().c_str());
   if (!opt.no_movie && io::make_movie(dir, dir / "movie.mp4"))
     std::printf("wrote %s\n", (dir / "movie.mp4").string().c_str());

@@ -24,12 +24,14 @@
 #include <vtkActor.h>
 #include <vtkActor2D.h>
 #include <vtkCamera.h>
+#include <vtkCell.h>
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkColorTransferFunction.h>
 #include <vtkCoordinate.h>
 #include <vtkDataSetMapper.h>
 #include <vtkDoubleArray.h>
+#include <vtkFeatureEdges.h>
 #include <vtkFloatArray.h>
 #include <vtkGlyph3DMapper.h>
 #include <vtkIdTypeArray.h>
@@ -102,6 +104,8 @@ constexpr ModeStyle kContactMode{BondState::Contact, {0.05, 0.55, 0.25}, "contac
 constexpr Rgb kIntactColour{0.55, 0.55, 0.55};
 constexpr Rgb kUniformMeshColour{0.74, 0.80, 0.87};  // pale steel blue
 constexpr Rgb kMeshEdgeColour{0.35, 0.38, 0.42};
+constexpr Rgb kWallColour{0.20, 0.24, 0.32};  // dark slate: 2D walls, 3D outlines
+constexpr Rgb kWallFill{0.55, 0.62, 0.75};    // light slate: 3D planes, translucent
 /// Meshes with at most this many cells are drawn with their element edges.
 constexpr std::size_t kMaxCellsWithEdges = 5000;
 constexpr Rgb kUniformParticleColour{0.86, 0.82, 0.72};  // sandstone beige
@@ -616,6 +620,54 @@ MeshActor mesh_actor(const MeshFrame& mesh, const MeshValues& mv, const RenderSt
   return out;
 }
 
+/// Rigid walls: dark lines in 2D; in 3D translucent planes with a dark outline (their
+/// boundary edges, not the diagonal between a rectangle's two triangles), so that the
+/// particles behind them stay readable.
+std::vector<vtkSmartPointer<vtkActor>> wall_actors(const MeshFrame& walls, int dim, int height) {
+  const vtkSmartPointer<vtkUnstructuredGrid> ug = detail::mesh_grid(walls);
+  auto flat = [](vtkActor* actor) {
+    auto* prop = actor->GetProperty();
+    prop->SetColor(kWallColour[0], kWallColour[1], kWallColour[2]);
+    prop->SetAmbient(1.0);
+    prop->SetDiffuse(0.0);
+    prop->SetSpecular(0.0);
+  };
+  std::vector<vtkSmartPointer<vtkActor>> out;
+  vtkNew<vtkDataSetMapper> m;
+  m->SetInputData(ug);
+  m->ScalarVisibilityOff();
+  out.push_back(vtkSmartPointer<vtkActor>::New());
+  out.back()->SetMapper(m);
+  flat(out.back());
+  if (dim == 2) {
+    out.back()->GetProperty()->SetLineWidth(static_cast<float>(std::max(3.0, height / 250.0)));
+    return out;
+  }
+  out.back()->GetProperty()->SetColor(kWallFill[0], kWallFill[1], kWallFill[2]);
+  out.back()->GetProperty()->SetOpacity(0.25);
+  vtkNew<vtkPolyData> surface;  // the triangles as polygons, which vtkFeatureEdges takes
+  surface->SetPoints(ug->GetPoints());
+  vtkNew<vtkCellArray> polys;
+  for (vtkIdType c = 0; c < ug->GetNumberOfCells(); ++c)
+    if (ug->GetCellType(c) == VTK_TRIANGLE) polys->InsertNextCell(ug->GetCell(c)->GetPointIds());
+  surface->SetPolys(polys);
+  vtkNew<vtkFeatureEdges> outline;
+  outline->SetInputData(surface);
+  outline->BoundaryEdgesOn();
+  outline->FeatureEdgesOff();
+  outline->NonManifoldEdgesOff();
+  outline->ManifoldEdgesOff();
+  outline->ColoringOff();
+  vtkNew<vtkPolyDataMapper> lines;
+  lines->SetInputConnection(outline->GetOutputPort());
+  lines->ScalarVisibilityOff();
+  out.push_back(vtkSmartPointer<vtkActor>::New());
+  out.back()->SetMapper(lines);
+  flat(out.back());
+  out.back()->GetProperty()->SetLineWidth(2.0f);
+  return out;
+}
+
 }  // namespace
 
 void render_frame(const RenderRequest& rq) {
@@ -626,6 +678,7 @@ void render_frame(const RenderRequest& rq) {
   const PointCloud& cloud = rq.particles ? *rq.particles : no_particles;
   validate(cloud);
   if (rq.mesh) validate(*rq.mesh);
+  if (rq.walls) validate(*rq.walls);
   const RenderStyle& s = rq.style;
   STRATA_CHECK(s.width >= 16 && s.height >= 16 && s.width <= 8192 && s.height <= 8192, Input,
                "render: picture size {}x{} outside 16..8192 pixels", s.width, s.height);
@@ -687,6 +740,16 @@ void render_frame(const RenderRequest& rq) {
       }
   }
   if (shown == 0 && !mesh.actor) std::fill(bounds, bounds + 6, 0.0), bounds[1] = bounds[3] = bounds[5] = 1.0;
+  // Walls are part of the model: the camera takes them in (they reach a little beyond the
+  // particles, and a wall that has not yet met them shows where it is).
+  const auto walls = rq.walls && rq.walls->cells() > 0 ? wall_actors(*rq.walls, dim, H)
+                                                       : std::vector<vtkSmartPointer<vtkActor>>{};
+  if (!walls.empty())
+    for (std::size_t i = 0; i < rq.walls->nodes(); ++i)
+      for (int k = 0; k < 3; ++k) {
+        bounds[2 * k] = std::min(bounds[2 * k], rq.walls->xyz[3 * i + k]);
+        bounds[2 * k + 1] = std::max(bounds[2 * k + 1], rq.walls->xyz[3 * i + k]);
+      }
   if (!radius && shown > 0) {
     // No radius: a size from the point density of the bounding box.
     const double area = (bounds[1] - bounds[0]) * (bounds[3] - bounds[2]);
@@ -884,6 +947,12 @@ void render_frame(const RenderRequest& rq) {
       return seen_point[i] == 1;
     };
   }
+  // Walls join after the depth pass: a translucent plane in front hides no crack.
+  for (const auto& wall : walls) {
+    // In 2D over the disks (the camera looks down -z).
+    if (dim == 2) wall->SetPosition(0, 0, 1e-3 * std::max(bounds[1] - bounds[0], bounds[3] - bounds[2]));
+    scene->AddActor(wall);
+  }
   win->AddRenderer(halo_layer);
   win->AddRenderer(top);
 
@@ -1036,18 +1105,18 @@ void render_frame(const RenderRequest& rq) {
   write_png(win, rq.png);
 }
 
-std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files, const fs::path& out_dir,
-                                    const RenderStyle& style, const std::vector<fs::path>& bond_files,
-                                    const std::vector<fs::path>& mesh_files,
-                                    const std::function<bool()>& stop) {
-  const std::size_t frames = std::max({particle_files.size(), bond_files.size(), mesh_files.size()});
-  for (const auto* list : {&particle_files, &bond_files, &mesh_files})
-    STRATA_CHECK(list->empty() || list->size() == frames, Input,
-                 "render: {} particle, {} bond and {} mesh frames (each list must be empty or as long as the "
-                 "longest)",
-                 particle_files.size(), bond_files.size(), mesh_files.size());
-  auto at = [](const std::vector<fs::path>& files, std::size_t k) {
-    return files.empty() ? fs::path() : files[k];
+std::vector<fs::path> render_frames(const FrameFiles& files, const fs::path& out_dir,
+                                    const RenderStyle& style, const std::function<bool()>& stop) {
+  const std::size_t frames =
+      std::max({files.particles.size(), files.bonds.size(), files.meshes.size(), files.walls.size()});
+  for (const auto* list : {&files.particles, &files.bonds, &files.meshes, &files.walls})
+    STRATA_CHECK(
+        list->empty() || list->size() == frames, Input,
+        "render: {} particle, {} bond, {} mesh and {} wall frames (each list must be empty or as long "
+        "as the longest)",
+        files.particles.size(), files.bonds.size(), files.meshes.size(), files.walls.size());
+  auto at = [](const std::vector<fs::path>& list, std::size_t k) {
+    return list.empty() ? fs::path() : list[k];
   };
   RenderStyle s = style;
   // Every frame is read once before the first is drawn: a damaged file stops the drawing
@@ -1056,15 +1125,16 @@ std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files,
   const bool find_range = !s.range && !s.field.empty();
   std::array<double, 2> r{std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   for (std::size_t k = 0; k < frames; ++k) {
-    if (const auto f = at(particle_files, k); !f.empty()) {
+    if (const auto f = at(files.particles, k); !f.empty()) {
       const VtpContents v = read_vtp(f);
       if (find_range) r = merge(r, finite_range(field_values(v.points, s)));
     }
-    if (const auto f = at(bond_files, k); !f.empty()) read_vtp(f);
-    if (const auto f = at(mesh_files, k); !f.empty()) {
+    if (const auto f = at(files.bonds, k); !f.empty()) read_vtp(f);
+    if (const auto f = at(files.meshes, k); !f.empty()) {
       const MeshFrame m = read_vtu(f);
       if (find_range) r = merge(r, finite_range(field_values(m, s).values));
     }
+    if (const auto f = at(files.walls, k); !f.empty()) read_vtu(f);
   }
   if (find_range && r[0] <= r[1]) s.range = r;
   std::vector<fs::path> out;
@@ -1075,21 +1145,25 @@ std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files,
     }
     RenderRequest rq;
     VtpContents particles, bonds;
-    MeshFrame mesh;
-    if (const auto f = at(particle_files, k); !f.empty()) {
+    MeshFrame mesh, walls;
+    if (const auto f = at(files.particles, k); !f.empty()) {
       particles = read_vtp(f);
       STRATA_CHECK(particles.points.size() > 0, Input, "render: {} holds no particles: nothing to draw",
                    f.string());
       rq.particles = &particles.points;
     }
-    if (const auto f = at(bond_files, k); !f.empty()) {
+    if (const auto f = at(files.bonds, k); !f.empty()) {
       bonds = read_vtp(f);
       rq.bonds = &bonds.lines;
       rq.bond_points = &bonds.points;
     }
-    if (const auto f = at(mesh_files, k); !f.empty()) {
+    if (const auto f = at(files.meshes, k); !f.empty()) {
       mesh = read_vtu(f);
       rq.mesh = &mesh;
+    }
+    if (const auto f = at(files.walls, k); !f.empty()) {
+      walls = read_vtu(f);
+      rq.walls = &walls;
     }
     STRATA_CHECK(rq.particles || rq.mesh, Input, "render: frame {} has neither particles nor a mesh", k);
     rq.png = out_dir / fmt::format("frame_{:06d}.png", k);
@@ -1101,40 +1175,45 @@ std::vector<fs::path> render_frames(const std::vector<fs::path>& particle_files,
   return out;
 }
 
-std::vector<fs::path> render_series(const fs::path& pvd, const fs::path& out_dir, const RenderStyle& style,
-                                    const fs::path& bonds_pvd, const fs::path& mesh_pvd,
-                                    const std::function<bool()>& stop) {
+std::vector<fs::path> render_series(const SeriesPaths& series, const fs::path& out_dir,
+                                    const RenderStyle& style, const std::function<bool()>& stop) {
+  const fs::path& pvd = series.main;
   const bool mesh_only = is_mesh_series(pvd);
-  STRATA_CHECK(!(mesh_only && !mesh_pvd.empty()), Input,
+  STRATA_CHECK(!(mesh_only && !series.mesh.empty()), Input,
                "render: {} lists FEM frames (.vtu), and a mesh series {} was given too", pvd.string(),
-               mesh_pvd.string());
-  STRATA_CHECK(mesh_pvd.empty() || is_mesh_series(mesh_pvd), Input,
-               "render: the mesh series {} does not list .vtu frames", mesh_pvd.string());
+               series.mesh.string());
+  for (const fs::path* other : {&series.mesh, &series.walls})
+    STRATA_CHECK(other->empty() || is_mesh_series(*other), Input,
+                 "render: the {} series {} does not list .vtu frames",
+                 other == &series.mesh ? "mesh" : "wall", other->string());
   const auto entries = read_pvd(pvd);
-  auto path_of = [](const fs::path& series, const PvdEntry& e) {
-    return e.file.is_absolute() ? e.file : series.parent_path() / e.file;
-  };
-  /// The frame of `series` with the same time as `e` (relative tolerance 1e-9), if any.
-  auto matching = [&](const fs::path& series, const std::vector<PvdEntry>& list, const PvdEntry& e) {
-    for (const auto& b : list)
-      if (std::abs(b.time - e.time) <=
-              1e-9 * std::max(1e-300, std::max(std::abs(b.time), std::abs(e.time))) ||
-          b.time == e.time)
-        return path_of(series, b);
-    return fs::path();
-  };
-  std::vector<PvdEntry> bond_entries, mesh_entries;
-  if (!bonds_pvd.empty()) bond_entries = read_pvd(bonds_pvd);
-  if (!mesh_pvd.empty()) mesh_entries = read_pvd(mesh_pvd);
-  std::vector<fs::path> pfiles, bfiles, mfiles;
-  for (const auto& e : entries) {
-    (mesh_only ? mfiles : pfiles).push_back(path_of(pvd, e));
-    if (!bonds_pvd.empty()) bfiles.push_back(matching(bonds_pvd, bond_entries, e));
-    if (!mesh_pvd.empty()) mfiles.push_back(matching(mesh_pvd, mesh_entries, e));
-  }
   STRATA_CHECK(!entries.empty(), Input, "render: {} lists no frames: nothing to draw", pvd.string());
+  auto path_of = [](const fs::path& list, const PvdEntry& e) {
+    return e.file.is_absolute() ? e.file : list.parent_path() / e.file;
+  };
+  FrameFiles files;
+  for (const auto& e : entries) (mesh_only ? files.meshes : files.particles).push_back(path_of(pvd, e));
+  // The frames of another series with the same times as the main frames (relative
+  // tolerance 1e-9); an empty path where it has none.
+  auto match = [&](const fs::path& other, std::vector<fs::path>& out) {
+    if (other.empty()) return;
+    const auto list = read_pvd(other);
+    for (const auto& e : entries) {
+      fs::path found;
+      for (const auto& b : list)
+        if (b.time == e.time || std::abs(b.time - e.time) <=
+                                    1e-9 * std::max(1e-300, std::max(std::abs(b.time), std::abs(e.time)))) {
+          found = path_of(other, b);
+          break;
+        }
+      out.push_back(found);
+    }
+  };
+  match(series.bonds, files.bonds);
+  match(series.mesh, files.meshes);
+  match(series.walls, files.walls);
   log::info("rendering {} frames of {} to {}", entries.size(), pvd.string(), out_dir.string());
-  return render_frames(pfiles, out_dir, style, bfiles, mfiles, stop);
+  return render_frames(files, out_dir, style, stop);
 }
 
 bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
@@ -1210,13 +1289,12 @@ bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
 #else  // !STRATA_WITH_RENDER
 
 void render_frame(const RenderRequest&) { fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures"); }
-std::vector<fs::path> render_frames(const std::vector<fs::path>&, const fs::path&, const RenderStyle&,
-                                    const std::vector<fs::path>&, const std::vector<fs::path>&,
+std::vector<fs::path> render_frames(const FrameFiles&, const fs::path&, const RenderStyle&,
                                     const std::function<bool()>&) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
-std::vector<fs::path> render_series(const fs::path&, const fs::path&, const RenderStyle&, const fs::path&,
-                                    const fs::path&, const std::function<bool()>&) {
+std::vector<fs::path> render_series(const SeriesPaths&, const fs::path&, const RenderStyle&,
+                                    const std::function<bool()>&) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
 bool make_movie(const fs::path&, const fs::path&, int) {

@@ -180,6 +180,12 @@ std::vector<std::uint32_t> Simulation::group_bits() const { return m_->group_bit
 std::vector<float> Simulation::damage() const { return m_->damage(); }
 std::vector<PairView> Simulation::bonds() const { return m_->pairs(true); }
 std::vector<PairView> Simulation::contacts() const { return m_->pairs(false); }
+std::vector<WallView> Simulation::walls() const {
+  std::vector<WallView> out;
+  for (const detail::Wall& w : m_->walls)
+    out.push_back({{w.p[0], w.p[1], w.p[2]}, {w.n[0], w.n[1], w.n[2]}, {w.v[0], w.v[1], w.v[2]}, w.k});
+  return out;
+}
 std::size_t Simulation::memory_bytes() const { return m_->memory_bytes(); }
 std::uint64_t Simulation::state_hash() const { return m_->state_hash(); }
 

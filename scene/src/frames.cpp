@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace strata::scene {
 
@@ -195,6 +196,89 @@ io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const E
   }
   f.point_data = {std::move(disp), std::move(vel)};
   f.cell_data = {std::move(stress), std::move(mises), std::move(block_id)};
+  return f;
+}
+
+io::MeshFrame wall_frame(const dem::Simulation& sim) {
+  io::MeshFrame f;
+  f.dim = sim.dim();
+  f.time = sim.time();
+  f.step = sim.step_count();
+  const auto walls = sim.walls();
+  const auto pos = sim.positions();
+  if (walls.empty() || pos.empty()) return f;
+  // The particles' box now, radii included.
+  const auto r = sim.radii();
+  std::array<double, 3> lo{}, hi{};
+  lo.fill(std::numeric_limits<double>::infinity());
+  hi.fill(-std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], pos[i][a] - r[i]);
+      hi[a] = std::max(hi[a], pos[i][a] + r[i]);
+    }
+  if (f.dim == 2) lo[2] = hi[2] = 0;
+  double diagonal = 0;
+  for (int a = 0; a < 3; ++a) diagonal += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+  const double margin = 0.05 * std::sqrt(diagonal);
+
+  auto dot = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+  io::Array index{"wall", 1, {}, io::ArrayType::Int32};
+  io::Array normal{"normal", 3, {}, io::ArrayType::Float64};
+  io::Array velocity{"velocity", 3, {}, io::ArrayType::Float64};
+  for (std::size_t w = 0; w < walls.size(); ++w) {
+    const dem::WallView& wall = walls[w];
+    const auto& n = wall.normal;
+    // In-plane unit directions: in 2D the line's direction; in 3D the axis least along n
+    // made normal to it, and n × that one.
+    std::array<double, 3> t1{-n[1], n[0], 0.0}, t2{};
+    if (f.dim == 3) {
+      int least = 0;
+      for (int a = 1; a < 3; ++a)
+        if (std::abs(n[a]) < std::abs(n[least])) least = a;
+      t1 = {0, 0, 0};
+      t1[least] = 1;
+      const double along = t1[least] * n[least];
+      for (int a = 0; a < 3; ++a) t1[a] -= along * n[a];
+      const double len = std::sqrt(dot(t1, t1));
+      for (double& c : t1) c /= len;
+      t2 = {n[1] * t1[2] - n[2] * t1[1], n[2] * t1[0] - n[0] * t1[2], n[0] * t1[1] - n[1] * t1[0]};
+    }
+    // The extent of the box's corners projected onto the plane, widened by the margin.
+    double s1[2] = {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
+    double s2[2] = {s1[0], s1[1]};
+    for (int corner = 0; corner < 8; ++corner) {
+      std::array<double, 3> c{};
+      for (int a = 0; a < 3; ++a) c[a] = ((corner >> a & 1) ? hi[a] : lo[a]) - wall.point[a];
+      s1[0] = std::min(s1[0], dot(c, t1)), s1[1] = std::max(s1[1], dot(c, t1));
+      s2[0] = std::min(s2[0], dot(c, t2)), s2[1] = std::max(s2[1], dot(c, t2));
+    }
+    auto add_node = [&](double a, double b) {
+      for (int k = 0; k < 3; ++k) f.xyz.push_back(wall.point[k] + (a * t1[k] + b * t2[k]));
+      return std::int64_t(f.nodes() - 1);
+    };
+    const double a0 = s1[0] - margin, a1 = s1[1] + margin;
+    auto add_cell_data = [&] {
+      index.values.push_back(double(w));
+      normal.values.insert(normal.values.end(), n.begin(), n.end());
+      velocity.values.insert(velocity.values.end(), wall.velocity.begin(), wall.velocity.end());
+    };
+    if (f.dim == 2) {
+      const auto p0 = add_node(a0, 0), p1 = add_node(a1, 0);
+      f.add_cell(io::CellType::Line, {p0, p1});
+      add_cell_data();
+    } else {
+      const double b0 = s2[0] - margin, b1 = s2[1] + margin;
+      const auto p0 = add_node(a0, b0), p1 = add_node(a1, b0), p2 = add_node(a1, b1), p3 = add_node(a0, b1);
+      f.add_cell(io::CellType::Triangle, {p0, p1, p2});
+      f.add_cell(io::CellType::Triangle, {p0, p2, p3});
+      add_cell_data();
+      add_cell_data();
+    }
+  }
+  f.cell_data = {std::move(index), std::move(normal), std::move(velocity)};
   return f;
 }
 

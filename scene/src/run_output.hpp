@@ -40,6 +40,7 @@ class RunOutput {
     if (particles_on_) {
       particles_.emplace(dir, "particles", mode);
       bonds_.emplace(dir, "bonds", mode);
+      if (!m.sim().walls().empty()) walls_.emplace(dir, "walls", mode);
     }
     if (fem_on_) fem_.emplace(dir, "fem", mode);
     std::vector<std::string> cols{"step", "time"};
@@ -59,7 +60,7 @@ class RunOutput {
       return;
     }
     first_step_ = m.step_count();
-    for (auto* series : {&particles_, &bonds_, &fem_})
+    for (auto* series : {&particles_, &bonds_, &fem_, &walls_})
       if (*series) (*series)->truncate_after(m.time());
     probes_.emplace(io::CsvWriter::append(dir / "probes.csv", cols, double(m.step_count())));
     time_ = resume->get<double>("driver/probes/time");
@@ -212,6 +213,11 @@ class RunOutput {
     const io::LineSet bonds = bond_frame(sim, selection_);
     particles_->add_particles(sim.time(), pc);
     bonds_->add_lines(sim.time(), all, bonds);
+    std::optional<io::MeshFrame> walls;
+    if (walls_) {
+      walls = wall_frame(sim);
+      walls_->add_mesh(sim.time(), *walls);
+    }
 #if STRATA_WITH_RENDER
     if (out_.render && out_.render_while_running) {
       io::RenderRequest req;
@@ -219,6 +225,7 @@ class RunOutput {
       req.bonds = &bonds;
       req.bond_points = &all;
       req.mesh = mesh ? &*mesh : nullptr;
+      req.walls = walls ? &*walls : nullptr;
       req.png = dir_ / "png" / fmt::format("frame_{:06d}.png", particles_->frames().size() - 1);
       req.style = render_style();
       io::render_frame(req);
@@ -307,6 +314,7 @@ class RunOutput {
     if (particles_on_ && !particles_->frames().empty()) {
       written_.push_back(particles_->pvd_path());
       written_.push_back(bonds_->pvd_path());
+      if (walls_) written_.push_back(walls_->pvd_path());
     }
     if (fem_on_ && !fem_->frames().empty()) written_.push_back(fem_->pvd_path());
   }
@@ -356,12 +364,14 @@ class RunOutput {
       if (!rendered_while_running_) {
         std::vector<fs::path> pngs;
         if (particles_on_) {
-          pngs = io::render_series(particles_->pvd_path(), dir_ / "png", render_style(), bonds_->pvd_path(),
-                                   fem_on_ ? fem_->pvd_path() : fs::path(), stop);
+          io::SeriesPaths series{particles_->pvd_path(), bonds_->pvd_path(), {}, {}};
+          if (fem_on_) series.mesh = fem_->pvd_path();
+          if (walls_) series.walls = walls_->pvd_path();
+          pngs = io::render_series(series, dir_ / "png", render_style(), stop);
         } else {
-          std::vector<fs::path> meshes;
-          for (const auto& f : fem_->frames()) meshes.push_back(dir_ / f.file);
-          pngs = io::render_frames({}, dir_ / "png", render_style(), {}, meshes, stop);
+          io::FrameFiles files;
+          for (const auto& f : fem_->frames()) files.meshes.push_back(dir_ / f.file);
+          pngs = io::render_frames(files, dir_ / "png", render_style(), stop);
         }
         if (!pngs.empty()) written_.push_back(dir_ / "png" / "");
         if (reason != 0 || pngs.empty()) return reason;
@@ -382,7 +392,7 @@ class RunOutput {
   /// Drops frames later than `time` from the series (they may hold a blow-up in progress);
   /// returns the last frame kept, or an empty path.
   fs::path keep_frames_until(double time) {
-    for (auto* series : {&particles_, &bonds_, &fem_})
+    for (auto* series : {&particles_, &bonds_, &fem_, &walls_})
       if (*series) (*series)->truncate_after(time);
     return last_frame();
   }
@@ -399,7 +409,7 @@ class RunOutput {
   FrameSelection selection_;
   bool rendered_while_running_ = false;
   bool particles_on_ = false, fem_on_ = false;
-  std::optional<io::Series> particles_, bonds_, fem_;
+  std::optional<io::Series> particles_, bonds_, fem_, walls_;  // walls_ only when there are walls
   std::optional<io::CsvWriter> probes_;
   std::vector<double> time_, kinetic_, bond_, work_, fem_kinetic_, fem_strain_, strain_, stress_;
   std::vector<std::int64_t> probe_steps_;

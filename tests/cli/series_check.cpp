@@ -71,3 +71,12 @@ void write_mesh_series(const std::filesystem::path& dir) {
     fem.add_mesh(0.5 * f, m);
   }
 }
+
+std::vector<WallFrame> wall_frames(const std::filesystem::path& pvd) {
+  std::vector<WallFrame> out;
+  for (const auto& e : strata::io::read_pvd(pvd)) {
+    const auto mesh = strata::io::read_vtu(pvd.parent_path() / e.file);
+    out.push_back({e.time, mesh.cells(), mesh.xyz});
+  }
+  return out;
+}

@@ -21,3 +21,12 @@ bool have_gmsh();
 /// Writes `<dir>/fem.pvd` with two frames of a small tetrahedral box (point array
 /// "displacement", cell array "cx").
 void write_mesh_series(const std::filesystem::path& dir);
+
+/// One frame of a walls series: its time, cells and node coordinates (3 per node).
+struct WallFrame {
+  double time = 0;
+  std::size_t cells = 0;
+  std::vector<double> xyz;
+};
+/// Every frame a walls .pvd lists, read back with VTK's reader.
+std::vector<WallFrame> wall_frames(const std::filesystem::path& pvd);

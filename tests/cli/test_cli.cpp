@@ -482,6 +482,41 @@ TEST(Cli, SelectiveOutputWritesOnlyWhatIsAsked) {
   fs::remove_all(d);
 }
 
+// A scene with walls writes a `walls` series beside the particles (ParaView shows it): one
+// line per wall in 2D, where the wall is at each frame's time; the pictures of the run and
+// `strata render` of the particle series (which finds walls.pvd beside it) draw it.
+TEST(Cli, WallsAreWrittenBesideTheParticles) {
+  if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
+  const fs::path d = temp_dir("walls");
+  const fs::path f =
+      write(d, "walls.toml",
+            small_scene("[output]\nframes = 2\nmovie = false\nrender = " +
+                        std::string(have_render() ? "true" : "false") +
+                        "\n[[wall]]\nname = \"lid\"\npoint = [0.0, 0.02]\nnormal = [0.0, -1.0]\n"
+                        "velocity = [0.0, -1.0]\n"));
+  const auto run = strata("run " + f.string() + " -o " + (d / "run").string());
+  ASSERT_EQ(run.status, 0) << run.output;
+  const auto frames = wall_frames(d / "run" / "walls.pvd");
+  ASSERT_EQ(frames.size(), 3u);  // the start and two frames
+  for (const auto& w : frames) {
+    ASSERT_EQ(w.cells, 1u);
+    ASSERT_EQ(w.xyz.size(), 6u);
+    for (const double y : {w.xyz[1], w.xyz[4]})
+      EXPECT_NEAR(y, 0.02 - 1.0 * w.time, 1e-15) << "t = " << w.time;
+    EXPECT_LT(std::min(w.xyz[0], w.xyz[3]), 0.0) << "the wall spans the block (x from 0 to 10 mm)";
+    EXPECT_GT(std::max(w.xyz[0], w.xyz[3]), 0.010);
+  }
+  EXPECT_GT(frames.back().time, 0.0);
+  if (have_render()) {
+    EXPECT_TRUE(fs::exists(d / "run" / "png" / "frame_000002.png")) << run.output;
+    const auto r = strata("render " + (d / "run" / "particles.pvd").string() + " -o " + (d / "png").string() +
+                          " --size 200 150 --no-movie");
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(d / "png" / "frame_000002.png")) << r.output;
+  }
+  fs::remove_all(d);
+}
+
 // `strata render --view/--up/--clip` are checked when parsed: a wrong count, a word or a
 // zero direction exits with status 2 and names the option and what it expects.
 TEST(Cli, RenderViewAndClipOptionsAreValidated) {

@@ -319,6 +319,109 @@ TEST_F(IoTest, HiddenCracksIn3DAreNotDrawnUntilAClipPlaneOpensThem) {
   EXPECT_GT(cut, 1000u);
 }
 
+namespace {
+/// The walls' colour (dark slate, 0.20 0.24 0.32 of full scale), within 12 per channel.
+bool wall_slate(int r, int g, int b) {
+  return std::abs(r - 51) < 12 && std::abs(g - 61) < 12 && std::abs(b - 82) < 12;
+}
+
+/// A wall frame of one line (2D) from (x0, y) to (x1, y).
+MeshFrame wall_line(double x0, double x1, double y) {
+  MeshFrame w;
+  w.dim = 2;
+  w.xyz = {x0, y, 0, x1, y, 0};
+  w.add_cell(CellType::Line, {0, 1});
+  return w;
+}
+}  // namespace
+
+// A 2D wall is a dark line where it is, above the disks, taken into the picture even when it
+// stands well away from them (20 mm above a patch 7 mm high).
+TEST_F(IoTest, WallsAreDrawnAsLinesIn2D) {
+  const auto p = hex_patch(20, 8);  // x from 0 to 20 mm, y from 0 to about 6 mm
+  const MeshFrame wall = wall_line(-1e-3, 21e-3, 26e-3);
+  RenderRequest rq;
+  rq.particles = &p.cloud;
+  rq.style.width = 400;
+  rq.style.height = 300;
+  rq.png = dir_ / "no_wall.png";
+  render_frame(rq);
+  rq.walls = &wall;
+  rq.png = dir_ / "wall.png";
+  render_frame(rq);
+  EXPECT_EQ(count(read_png(dir_ / "no_wall.png"), wall_slate), 0u);
+  const Image img = read_png(rq.png);
+  std::size_t wall_pixels = 0;
+  double wall_row = 0;
+  int top_particle_row = -1, left = img.width, right = -1;
+  for (std::size_t i = 0; i < img.pixels.size(); ++i) {
+    const auto& c = img.pixels[i];
+    const int x = static_cast<int>(i % static_cast<std::size_t>(img.width));
+    const int y = static_cast<int>(i / static_cast<std::size_t>(img.width));  // 0 at the bottom
+    if (wall_slate(c[0], c[1], c[2])) {
+      ++wall_pixels;
+      wall_row += y;
+      left = std::min(left, x);
+      right = std::max(right, x);
+    } else if (std::abs(c[0] - 219) < 15 && std::abs(c[1] - 209) < 15 && std::abs(c[2] - 184) < 15) {
+      top_particle_row = std::max(top_particle_row, y);  // the disks' sandstone beige
+    }
+  }
+  ASSERT_GT(wall_pixels, 0u);
+  wall_row /= static_cast<double>(wall_pixels);
+  // Wider than the patch: the line runs 1 mm beyond it on both sides (22 of 20 mm).
+  EXPECT_GT(right - left, img.width / 2);
+  EXPECT_GE(wall_pixels, 2u * static_cast<std::size_t>(right - left));  // 3 pixels, their edges smoothed
+  // 20 mm above the 6 mm patch: the gap is about three patch heights.
+  EXPECT_GT(wall_row, top_particle_row + 40);
+}
+
+// A 3D wall in front of the model is a translucent plane with a dark outline: it changes the
+// picture, yet the warm face behind it stays warm.
+TEST_F(IoTest, WallsAreTranslucentPlanesIn3D) {
+  const PointCloud c = sphere_cube();  // x from -0.5 to 7.5; the +x face is warm
+  RenderRequest rq = stress_picture(c, dir_ / "no_wall.png");
+  rq.style.range = std::array<double, 2>{-3.5, 3.5};
+  rq.style.view_direction = {-1, -0.3, -0.5};  // from +x, so the warm side faces the camera
+  render_frame(rq);
+  // The plane x = 7.5 (normal -x, towards the particles) over the +x face, within the
+  // model's bounds, so that the camera is the same in both pictures.
+  MeshFrame wall;
+  wall.dim = 3;
+  wall.xyz = {7.5, -0.5, -0.5, 7.5, 7.5, -0.5, 7.5, 7.5, 7.5, 7.5, -0.5, 7.5};
+  wall.add_cell(CellType::Triangle, {0, 1, 2});
+  wall.add_cell(CellType::Triangle, {0, 2, 3});
+  rq.walls = &wall;
+  rq.png = dir_ / "wall.png";
+  render_frame(rq);
+  const Image plain = read_png(dir_ / "no_wall.png"), walled = read_png(rq.png);
+  // Behind the plane the warm face is seen through it: its pixels are blended with the
+  // plane's light slate (0.55 0.62 0.75) at 25 % opacity, within 6 per channel (8-bit
+  // rounding and edge smoothing); the warm pixels not behind it are on the top face.
+  std::size_t face = 0, seen_through = 0;
+  for (std::size_t i = 0; i < plain.pixels.size(); ++i) {
+    const auto& p = plain.pixels[i];
+    if (!warm(p[0], p[1], p[2])) continue;
+    ++face;
+    const auto& w = walled.pixels[i];
+    const double fill[3] = {0.55 * 255, 0.62 * 255, 0.75 * 255};
+    bool blended = true;
+    for (int k = 0; k < 3; ++k) blended = blended && std::abs(w[k] - (0.75 * p[k] + 0.25 * fill[k])) < 6;
+    seen_through += blended;
+  }
+  EXPECT_GT(face, 2000u);
+  EXPECT_GT(seen_through, face * 7 / 10)
+      << "the face behind the wall must be seen through it";  // 79 % measured
+  // Its outline in dark slate where the plain picture has none.
+  std::size_t outline = 0;
+  for (std::size_t i = 0; i < plain.pixels.size(); ++i) {
+    const auto& p = plain.pixels[i];
+    const auto& w = walled.pixels[i];
+    outline += wall_slate(w[0], w[1], w[2]) && !wall_slate(p[0], p[1], p[2]);
+  }
+  EXPECT_GT(outline, 150u) << "the wall's outline";
+}
+
 TEST_F(IoTest, UpVectorAlongTheViewIsRefused) {
   const PointCloud c = sphere_cube();
   RenderRequest rq;
@@ -409,7 +512,7 @@ TEST_F(IoTest, RenderSeriesOfMeshFrames) {
   style.width = 200;
   style.height = 150;
   style.field = "x";
-  const auto pngs = render_series(fem.pvd_path(), dir_ / "png", style);
+  const auto pngs = render_series({fem.pvd_path(), {}, {}, {}}, dir_ / "png", style);
   ASSERT_EQ(pngs.size(), 2u);
   for (const auto& f : pngs) EXPECT_EQ(read_png(f).width, 200);
 }
@@ -447,7 +550,7 @@ TEST_F(IoTest, RenderSeriesGivesOnePicturePerFrame) {
   style.width = 320;
   style.height = 240;
   style.field = "displacement";
-  const auto pngs = render_series(particles.pvd_path(), dir_ / "png", style, bonds.pvd_path());
+  const auto pngs = render_series({particles.pvd_path(), bonds.pvd_path(), {}, {}}, dir_ / "png", style);
   ASSERT_EQ(pngs.size(), 3u);
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(pngs[k], dir_ / "png" / ("frame_00000" + std::to_string(k) + ".png"));

@@ -1,6 +1,7 @@
 // The frame builders of a run (scene/src/frames.cpp) written with io and read back with VTK's
 // own readers: contacts as line cells with state 4 in the bond frames, and FEM meshes as
-// unstructured grids with displacement, velocity and element stress.
+// unstructured grids with displacement, velocity and element stress, walls as lines (2D) or
+// rectangles (3D) where they are now.
 #include <gtest/gtest.h>
 #include <strata/config.hpp>
 #include <strata/dem/simulation.hpp>
@@ -161,5 +162,78 @@ TEST_F(IoTest, FemFrameReadsBackWithStressOfAConstantStrain) {
   EXPECT_EQ(back.connectivity, frame.connectivity);
   ASSERT_TRUE(back.find_cell("block"));
   EXPECT_EQ(back.find_cell("block")->type, io::ArrayType::Int32);
+}
+
+// A wall moving at constant velocity is written where it is at the frame's time, in its
+// plane, covering the particles' box projected onto it, with its normal and velocity; read
+// back with VTK's reader. Tolerances: round-off of a few coordinates (1e-12 of the model size).
+TEST_F(IoTest, WallsAreWrittenWhereTheyAreNow) {
+  for (const int dim : {2, 3}) {
+    dem::Material m;
+    m.density = 2650;
+    m.kn = 1e7;
+    m.ks = 4e6;
+    dem::Simulation sim(dim, dem::Settings{.dt = 1e-6, .allow_unstable = true});
+    const int mat = sim.add_material(m);
+    const double r = 0.5e-3;
+    for (int i = 0; i < 4; ++i)
+      sim.add_particle({2 * r * i, 2 * r * (i % 2), dim == 3 ? r * i : 0.0}, r, mat);
+    // A floor tilted by 30 degrees, below the particles, moving up along its normal.
+    const double c = std::cos(M_PI / 6), s = std::sin(M_PI / 6);
+    const std::array<double, 3> n =
+        dim == 2 ? std::array<double, 3>{-s, c, 0} : std::array<double, 3>{-s, 0.6 * c, 0.8 * c};
+    const std::array<double, 3> p0{0, -0.01, 0}, v{0.5 * n[0], 0.5 * n[1], 0.5 * n[2]};
+    sim.add_wall(p0, n, v, 1e6);
+    sim.initialise();
+    sim.run(10);
+    const double t = sim.time();
+
+    const io::MeshFrame frame = scene::wall_frame(sim);
+    const auto file = dir_ / "walls.vtu";
+    io::write_mesh(file, frame);
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName(file.c_str());
+    reader->Update();
+    vtkUnstructuredGrid* ug = reader->GetOutput();
+    ASSERT_EQ(ug->GetNumberOfCells(), dim == 2 ? 1 : 2) << dim << "D";
+    for (vtkIdType k = 0; k < ug->GetNumberOfCells(); ++k)
+      EXPECT_EQ(ug->GetCellType(k), dim == 2 ? VTK_LINE : VTK_TRIANGLE);
+    ASSERT_EQ(ug->GetNumberOfPoints(), dim == 2 ? 2 : 4);
+    // Every corner on the plane through p0 + v t with normal n.
+    const double tol = 1e-12;
+    double lo = 1e300, hi = -1e300;  // extent along the in-plane direction of x's projection
+    std::array<double, 3> along{1 - n[0] * n[0], -n[0] * n[1], -n[0] * n[2]};
+    const double len = std::sqrt(along[0] * along[0] + along[1] * along[1] + along[2] * along[2]);
+    for (vtkIdType i = 0; i < ug->GetNumberOfPoints(); ++i) {
+      double x[3];
+      ug->GetPoint(i, x);
+      double off = 0, a = 0;
+      for (int k = 0; k < 3; ++k) {
+        off += (x[k] - p0[k] - v[k] * t) * n[k];
+        a += x[k] * along[k] / len;
+      }
+      EXPECT_NEAR(off, 0.0, tol) << dim << "D corner " << i;
+      if (dim == 2) {
+        EXPECT_EQ(x[2], 0.0);
+      }
+      lo = std::min(lo, a);
+      hi = std::max(hi, a);
+    }
+    // The particles' centres, projected onto the same direction, lie inside the extent.
+    for (const auto& x : sim.positions()) {
+      const double a = (x[0] * along[0] + x[1] * along[1] + x[2] * along[2]) / len;
+      EXPECT_GT(a, lo + r) << dim << "D";
+      EXPECT_LT(a, hi - r) << dim << "D";
+    }
+    auto* normal = ug->GetCellData()->GetArray("normal");
+    auto* velocity = ug->GetCellData()->GetArray("velocity");
+    auto* index = ug->GetCellData()->GetArray("wall");
+    ASSERT_TRUE(normal && velocity && index);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(normal->GetComponent(0, k), n[k], 1e-15);
+      EXPECT_NEAR(velocity->GetComponent(0, k), v[k], 1e-15);
+    }
+    EXPECT_EQ(index->GetComponent(ug->GetNumberOfCells() - 1, 0), 0.0);
+  }
 }
 #endif

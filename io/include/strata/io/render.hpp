@@ -9,9 +9,9 @@
 /// or on the clip plane's cut), and particles are shaded by the face of the assembly they sit
 /// on, so that the shape and its damage read in depth. Intact bonds and contacts only when asked. A FEM mesh
 /// (MeshFrame) is drawn shaded by a point or cell array of the same name, alone or under the particles of a
-/// coupled model, with the same colour bar, clip plane and camera. A label gives the time and step. Call
-/// ensure_display() first (render_frame does it). Without STRATA_WITH_RENDER these functions throw
-/// strata::Error (Unsupported).
+/// coupled model, with the same colour bar, clip plane and camera. Rigid walls are drawn as dark lines (2D)
+/// or translucent planes (3D). A label gives the time and step. Call ensure_display() first (render_frame
+/// does it). Without STRATA_WITH_RENDER these functions throw strata::Error (Unsupported).
 #include <array>
 #include <cstdint>
 #include <filesystem>
@@ -79,6 +79,9 @@ struct RenderRequest {
   /// cell array (BondState codes). May be null.
   const LineSet* bonds = nullptr;
   const PointCloud* bond_points = nullptr;
+  /// Rigid walls: lines (2D) or triangles (3D), drawn as dark lines in 2D and as
+  /// translucent planes with their outline in 3D. May be null.
+  const MeshFrame* walls = nullptr;
   std::optional<double> time;        ///< seconds; default: particles->time, else mesh->time
   std::optional<std::int64_t> step;  ///< default: particles->step, else mesh->step
   std::filesystem::path png;         ///< output file
@@ -88,26 +91,38 @@ struct RenderRequest {
 /// Renders one frame to `request.png` (parent folders created). Starts Xvfb if needed.
 void render_frame(const RenderRequest& request);
 
-/// Renders every frame of a series to `<out_dir>/frame_000000.png`, ... . `pvd` is a
-/// particle series (.vtp frames) or a FEM series (.vtu frames, recognised by the
-/// extension of its first frame). Bonds come from `bonds_pvd` and a mesh under the
-/// particles from `mesh_pvd` when given: their frames are matched to the main frames by
-/// time. Returns the PNG paths in order. `stop`, when given, is asked before each frame:
-/// true stops drawing, and the pictures drawn so far are returned.
-std::vector<std::filesystem::path> render_series(const std::filesystem::path& pvd,
+/// The series of a run drawn together; an empty path: none.
+struct SeriesPaths {
+  /// A particle series (.vtp frames) or a FEM series (.vtu frames, recognised by the
+  /// extension of its first frame): one picture per frame.
+  std::filesystem::path main;
+  std::filesystem::path bonds;  ///< bonds over the particles (.vtp line frames)
+  std::filesystem::path mesh;   ///< a FEM mesh under the particles (.vtu)
+  std::filesystem::path walls;  ///< rigid walls (.vtu: lines in 2D, triangles in 3D)
+};
+
+/// Renders every frame of `series.main` to `<out_dir>/frame_000000.png`, ... . The frames
+/// of the other series are matched to the main frames by time. Returns the PNG paths in
+/// order. `stop`, when given, is asked before each frame: true stops drawing, and the
+/// pictures drawn so far are returned.
+std::vector<std::filesystem::path> render_series(const SeriesPaths& series,
                                                  const std::filesystem::path& out_dir,
                                                  const RenderStyle& style,
-                                                 const std::filesystem::path& bonds_pvd = {},
-                                                 const std::filesystem::path& mesh_pvd = {},
                                                  const std::function<bool()>& stop = {});
 
-/// Same, from explicit lists of frame files: particles (.vtp), bonds and meshes (.vtu),
-/// each empty or as long as the longest list (an empty path: none in that frame).
-std::vector<std::filesystem::path> render_frames(const std::vector<std::filesystem::path>& particle_files,
+/// Explicit lists of frame files, one entry per picture; each list empty or as long as the
+/// longest (an empty path: none in that frame).
+struct FrameFiles {
+  std::vector<std::filesystem::path> particles;  ///< .vtp
+  std::vector<std::filesystem::path> bonds;      ///< .vtp
+  std::vector<std::filesystem::path> meshes;     ///< .vtu
+  std::vector<std::filesystem::path> walls;      ///< .vtu
+};
+
+/// Same as render_series, from explicit lists of frame files.
+std::vector<std::filesystem::path> render_frames(const FrameFiles& files,
                                                  const std::filesystem::path& out_dir,
                                                  const RenderStyle& style,
-                                                 const std::vector<std::filesystem::path>& bond_files = {},
-                                                 const std::vector<std::filesystem::path>& mesh_files = {},
                                                  const std::function<bool()>& stop = {});
 
 /// Encodes `<png_dir>/frame_%06d.png` into an H.264 movie (libx264, yuv420p, padded to

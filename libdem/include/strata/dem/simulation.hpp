@@ -77,6 +77,14 @@ struct PairView {
   std::array<double, 3> force_on_i;  ///< force vector the pair exerts on particle i (N)
 };
 
+/// A rigid wall as seen by writers: a plane at its current position.
+struct WallView {
+  std::array<double, 3> point;     ///< a point of the plane now (m)
+  std::array<double, 3> normal;    ///< unit normal towards the particles' side
+  std::array<double, 3> velocity;  ///< m/s
+  double stiffness;                ///< penalty stiffness (N/m)
+};
+
 namespace detail {
 class ModelBase;
 }
@@ -221,6 +229,8 @@ class Simulation {
   std::vector<float> damage() const;
   std::vector<PairView> bonds() const;
   std::vector<PairView> contacts() const;
+  /// The walls in the order they were added, where they are now.
+  std::vector<WallView> walls() const;
   /// Bytes held by the model's arrays (capacity).
   std::size_t memory_bytes() const;
   /// FNV-1a hash of positions, velocities, bond states and shear displacements.

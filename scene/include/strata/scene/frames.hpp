@@ -59,6 +59,12 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel);
 io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const Eigen::VectorXd& v,
                         double time, std::int64_t step);
 
+/// The walls where they are now, as a mesh ParaView and the pictures show: each wall a
+/// line (2D) or a rectangle of two triangles (3D) in its plane, covering the particles' box
+/// projected onto it and 5 % of the box's diagonal beyond; cell arrays `wall` (index in the
+/// order of [[wall]]), `normal` and `velocity`. No cells when there are no walls.
+io::MeshFrame wall_frame(const dem::Simulation& sim);
+
 /// How pictures show a particle field (render_field / --field): its scale, unit and, for
 /// damage, the fixed range [0, 1]. Shared by `strata run` and `strata render`.
 io::RenderStyle field_style(const std::string& field);
