@@ -95,11 +95,15 @@ void Simulation::kinematics(std::size_t id, std::array<double, 3>& u, std::array
   m_->kinematics(id, u, v);
 }
 void Simulation::step_displacement(const std::string& group, std::array<double, 3> increment,
-                                   std::int64_t every_steps) {
+                                   std::int64_t every_steps, unsigned axes) {
   STRATA_CHECK(every_steps >= 1, Input, "step_displacement: every_steps = {} must be >= 1", every_steps);
-  unsigned axes = 0;
+  if (axes == 0)
+    for (int a = 0; a < 3; ++a)
+      if (increment[a] != 0) axes |= 1u << a;
   for (int a = 0; a < 3; ++a)
-    if (increment[a] != 0) axes |= 1u << a;
+    STRATA_CHECK((axes >> a & 1u) || increment[a] == 0, Input,
+                 "step_displacement: an increment of {} along axis {} that is not prescribed", increment[a],
+                 a);
   m_->bc_specs.push_back({detail::BcSpec::StepDisp, mask_of(*this, group), axes, increment, every_steps, -1});
   m_->bcs_changed();
 }

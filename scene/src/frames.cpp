@@ -121,12 +121,23 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
   io::Array fn{"Fn", 1, {}, io::ArrayType::Float64}, fs{"Fs", 1, {}, io::ArrayType::Float64};
   const auto which = sel.bonds;
   const auto bonds = which == FrameSelection::Bonds::None ? std::vector<dem::PairView>{} : sim.bonds();
+  const bool filtered = sel.group_mask != 0 || sel.slice_thickness > 0;
+  const auto pos = filtered || sel.contacts ? sim.positions() : std::vector<std::array<double, 3>>{};
+  const auto groups = filtered || sel.contacts ? sim.group_bits() : std::vector<std::uint32_t>{};
+  // A pair is written when both its particles pass the group and slice selection.
+  auto selected = [&](const dem::PairView& p) {
+    return !filtered || (sel.in_groups_and_slice(groups[p.i], pos[p.i].data()) &&
+                         sel.in_groups_and_slice(groups[p.j], pos[p.j].data()));
+  };
   for (const auto& b : bonds) {
     if (b.kind == dem::PairKind::Intact && which == FrameSelection::Bonds::Broken) continue;
+    if (!selected(b)) continue;
     ls.ends.push_back(b.i);
     ls.ends.push_back(b.j);
+    // A broken bond as it is now: closed when it touches again after having opened (it may
+    // open again later), else its mode of failure (a crack broken in shear may still touch).
     const io::BondState s = b.kind == dem::PairKind::Intact          ? io::BondState::Intact
-                            : b.reclosed                             ? io::BondState::Closed
+                            : b.reclosed && b.touching               ? io::BondState::Closed
                             : b.kind == dem::PairKind::BrokenTension ? io::BondState::BrokenTension
                                                                      : io::BondState::BrokenShear;
     state.values.push_back(double(int(s)));
@@ -135,13 +146,8 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
   }
   if (sel.contacts) {
     // contacts() lists the unbonded pairs within the search distance; write those touching.
-    const auto pos = sim.positions();
-    const auto groups = sim.group_bits();
     for (const auto& c : sim.contacts()) {
-      if (c.kind != dem::PairKind::Contact || !c.touching) continue;
-      if (!sel.in_groups_and_slice(groups[c.i], pos[c.i].data()) ||
-          !sel.in_groups_and_slice(groups[c.j], pos[c.j].data()))
-        continue;
+      if (c.kind != dem::PairKind::Contact || !c.touching || !selected(c)) continue;
       ls.ends.push_back(c.i);
       ls.ends.push_back(c.j);
       state.values.push_back(double(int(io::BondState::Contact)));

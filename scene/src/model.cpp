@@ -540,7 +540,7 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
       auto inc = vec3(b.increment);
       for (int a = 0; a < 3; ++a)
         if (!(axes >> a & 1u)) inc[a] = 0;
-      sim.step_displacement(group, inc, b.every);
+      sim.step_displacement(group, inc, b.every, axes);  // named axes held, zero increment or not
     }
   }
   for (const auto& l : sc.loads) {

@@ -236,4 +236,75 @@ TEST_F(IoTest, WallsAreWrittenWhereTheyAreNow) {
     EXPECT_EQ(index->GetComponent(ug->GetNumberOfCells() - 1, 0), 0.0);
   }
 }
+
+namespace {
+/// Two bonded disks along x, the left one fixed, the right one driven along x: a bond that
+/// breaks in tension at 1 N.
+struct DrivenPair {
+  dem::Simulation sim{2, dem::Settings{.dt = 1e-9, .allow_unstable = true}};
+  static constexpr double r = 0.5e-3;
+  DrivenPair() {
+    dem::Material m;
+    m.density = 2650;
+    m.kn = 1e7;
+    m.ks = 4e6;
+    m.friction = 0.5;
+    m.tensile_strength = 1.0;
+    const int mat = sim.add_material(m);
+    sim.add_particle({0, 0, 0}, r, mat);
+    sim.add_particle({2 * r, 0, 0}, r, mat);
+    sim.add_to_group({0}, "left");
+    sim.add_to_group({1}, "right");
+    sim.fix("left", 0b11);
+    sim.drive("right", 0b11);
+    sim.bond_touching_pairs();
+    sim.initialise();
+  }
+  /// Moves the right disk to `gap` (m, negative: overlap) from touching and steps once.
+  void place(double gap) {
+    sim.set_kinematics(1, {gap, 0, 0}, {0, 0, 0});
+    sim.run(1);
+  }
+  /// The drawn state of the bond (BondState code), or -1 when it is not written.
+  int drawn(const scene::FrameSelection& sel = {}) const {
+    const io::LineSet lines = scene::bond_frame(sim, sel);
+    return lines.size() == 0 ? -1 : int(lines.find(io::kBondStateArray)->at(0));
+  }
+};
+}  // namespace
+
+// A broken bond is drawn as it is now: open in tension, then closed while the disks touch
+// again, then open again when they part once more (not closed for ever once it has closed).
+TEST_F(IoTest, BrokenBondsAreDrawnInTheirCurrentState) {
+  DrivenPair p;
+  scene::FrameSelection all;
+  all.bonds = scene::FrameSelection::Bonds::All;
+  EXPECT_EQ(p.drawn(all), int(io::BondState::Intact));
+  p.place(0.1 * DrivenPair::r);  // stretched by 5e-5 m: Fn = 500 N > 1 N
+  EXPECT_EQ(p.drawn(), int(io::BondState::BrokenTension));
+  p.place(-0.02 * DrivenPair::r);  // pressed together again
+  EXPECT_EQ(p.drawn(), int(io::BondState::Closed));
+  p.place(0.2 * DrivenPair::r);  // apart once more
+  EXPECT_EQ(p.drawn(), int(io::BondState::BrokenTension));
+  p.place(-0.01 * DrivenPair::r);
+  EXPECT_EQ(p.drawn(), int(io::BondState::Closed));
+}
+
+// [output] groups (and slices) filter broken bonds as they filter particles and contacts: a
+// crack between two particles outside the selected groups is not written.
+TEST_F(IoTest, GroupSelectionFiltersBrokenBonds) {
+  DrivenPair p;
+  p.place(0.1 * DrivenPair::r);
+  scene::FrameSelection sel;
+  EXPECT_EQ(p.drawn(sel), int(io::BondState::BrokenTension));
+  sel.group_mask = 1u << p.sim.group_bit("right");
+  EXPECT_EQ(p.drawn(sel), -1) << "the left disk is not in the selection";
+  p.sim.add_to_group({0, 1}, "both");
+  sel.group_mask = 1u << p.sim.group_bit("both");
+  EXPECT_EQ(p.drawn(sel), int(io::BondState::BrokenTension));
+  sel.group_mask = 0;
+  sel.slice_thickness = 0.5 * DrivenPair::r;  // a slice normal to x through the left disk only
+  sel.slice_normal = {1, 0, 0};
+  EXPECT_EQ(p.drawn(sel), -1);
+}
 #endif

@@ -9,6 +9,7 @@
 #include <limits>
 #include <sstream>
 
+#include <strata/scene/model.hpp>
 #include <strata/scene/scene.hpp>
 #include "scene_fixtures.hpp"
 
@@ -622,4 +623,33 @@ TEST(SceneSchema, ReferenceDocIsInSyncWithTheSchema) {
   EXPECT_TRUE(committed.str() == generated)
       << doc.string()
       << " is missing or differs from the schema (the key declarations in scene/src/tables/). " << how;
+}
+
+// ---- boundary conditions ---------------------------------------------------------------------
+
+// A step_displacement boundary prescribes every axis it names, zero increment or not: platens
+// that name x and y hold the top row sideways (rough platens), while naming y alone leaves x
+// free (frictionless platens), where the block's Poisson expansion moves the row's ends out.
+TEST(SceneBoundaries, AxesNamedWithAZeroIncrementAreHeld) {
+  auto largest_lateral_displacement = [](const std::string& axes) {
+    const std::string text =
+        edit("[solver]", "[[boundary]]\ngroup = \"top\"\ntype = \"step_displacement\"\naxes = " + axes +
+                             "\nincrement = [0.0, -2e-8]\nevery = 1\n\n[solver]");
+    const Scene sc = strata::scene::parse(text, "scene.toml", {});
+    strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
+    m.advance(1000);
+    const auto u = m.sim().displacements();
+    const auto ids = m.sim().ids();
+    std::vector<std::size_t> where(ids.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = i;
+    double largest = 0;
+    for (const auto id : m.sim().group_members("top")) largest = std::max(largest, std::abs(u[where[id]][0]));
+    return largest;
+  };
+  EXPECT_EQ(largest_lateral_displacement(R"(["x", "y"])"), 0.0);
+  // Frictionless: 2e-5 m of shortening of the 30 mm block (strain 6.7e-4, ν ≈ 0.19) widens
+  // it by about 0.19 × 6.7e-4 × 30 mm = 3.8e-6 m, 1.9e-6 m at each end of an unconstrained
+  // row; with the bottom row held, the top row's ends move 1.1e-6 m after these 1000 steps
+  // (about 4 wave transits). The bar is a fifth of that.
+  EXPECT_GT(largest_lateral_displacement(R"(["y"])"), 2e-7);
 }

@@ -31,7 +31,10 @@ TableSpec boundary_spec() {
               .per_axis()
               .length(1, 3)
               .def(R"(["x", "y", "z"])")
-              .doc("Which components are prescribed; the others stay free. Default: all axes."),
+              .doc("Which components are prescribed; the others stay free. An axis named here is held even "
+                   "where its velocity or increment is zero: platens that hold the boundary rows sideways "
+                   "(rough platens) name both axes, frictionless ones only the loading axis. Default: all "
+                   "axes."),
           K("velocity", RealList, "m/s")
               .per_axis()
               .doc("Velocity, one component per axis; required when type = \"velocity\"."),

@@ -87,7 +87,8 @@ TableSpec output_spec() {
                    "holes); none. Large models can write only what a workstation can open."),
           K("groups", StringList)
               .def("[]")
-              .doc("Only particles of these [[group]]s or [[region]]s in the VTK frames; empty: all."),
+              .doc("Only particles of these [[group]]s or [[region]]s in the VTK frames, and only the bonds "
+                   "and contacts between two of them; empty: all."),
           K("slice_point", RealList, "m")
               .per_axis()
               .def("[0.0, 0.0, 0.0]")
@@ -100,12 +101,16 @@ TableSpec output_spec() {
               .ge(0)
               .def("0.0")
               .doc("Only particles whose centres lie within half this distance of the slice plane "
-                   "(slice_point, slice_normal) in the VTK frames; 0: no slice."),
+                   "(slice_point, slice_normal) in the VTK frames, and the bonds and contacts between two of "
+                   "them; 0: no slice."),
           K("bonds", Choice)
               .choices({"broken", "all", "none"})
               .def(R"("broken")")
-              .doc("Which bonds the bond frames hold: broken (cracks: tension, shear, closed again), all "
-                   "(also intact bonds, with their forces), none."),
+              .doc(
+                  "Which bonds the bond frames hold: broken (cracks, each as it is at the frame's time: open "
+                  "in tension or shear, or closed while it touches again), all (also intact bonds, with "
+                  "their "
+                  "forces), none."),
           K("contacts", Bool)
               .def("true")
               .doc("Also write the contacts between particles that were never bonded and touch now to the "

@@ -139,10 +139,13 @@ class Simulation {
   void fix(const std::string& group, unsigned axes);
   /// Moves the group's particles at velocity v along the given axes (other axes free).
   void prescribe_velocity(const std::string& group, std::array<double, 3> v, unsigned axes);
-  /// Holds the group fixed along the increment's non-zero axes and moves it by `increment`
-  /// once every `every_steps` steps (the platens of Li, Yin, Liu & Cai 2017: 1.9e-9 m
-  /// every 400 steps).
-  void step_displacement(const std::string& group, std::array<double, 3> increment, std::int64_t every_steps);
+  /// Prescribes the group along `axes` (bit a: axis a; 0: the axes of the increment's
+  /// non-zero components): held there, and moved by `increment` once every `every_steps`
+  /// steps (the platens of Li, Yin, Liu & Cai 2017: 1.9e-9 m every 400 steps). An axis with
+  /// a zero increment is held in place: platens that also hold the boundary rows sideways
+  /// (rough platens) name both axes.
+  void step_displacement(const std::string& group, std::array<double, 3> increment, std::int64_t every_steps,
+                         unsigned axes = 0);
   /// Force on each particle of the group, piecewise linear in time between (times, forces),
   /// constant outside. A particle takes the last history given for one of its groups.
   void force_history(const std::string& group, std::vector<double> times,

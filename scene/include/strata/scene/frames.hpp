@@ -45,9 +45,10 @@ io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud
                                 const FrameSelection& sel);
 
 /// Bonds and contacts as line cells with state (io::BondState codes), Fn and Fs, indexing
-/// the points of particle_frame: the bonds sel.bonds asks for (broken ones, open or closed
-/// again, or all), then, with sel.contacts, the touching never-bonded contacts whose
-/// particles pass the group and slice selection (state BondState::Contact).
+/// the points of particle_frame: the bonds sel.bonds asks for (broken ones or all), then,
+/// with sel.contacts, the touching never-bonded contacts (state BondState::Contact); of
+/// each, those whose two particles pass the group and slice selection. A broken bond's state
+/// is its current one: Closed while it touches again after having opened, else its mode.
 io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel);
 
 /// A FEM mesh and its state as an io::MeshFrame: nodes (z = 0 in 2D, y = z = 0 in 1D),
