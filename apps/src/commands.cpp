@@ -6,6 +6,7 @@
 
 #include <string.h>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <strata/cases/chain_report.hpp>
 #include <strata/core/error.hpp>
@@ -49,6 +50,26 @@ void print_model(const json& j) {
                 r["name"].get<std::string>().c_str(), r["lattice"].get<std::string>().c_str(),
                 r["diameter_m"].get<double>(), r["particles"].get<std::size_t>(),
                 r["packing_density"].get<double>());
+  for (const auto& r : j["regions"]) {
+    if (!r.contains("lattice_elastic")) continue;
+    const json& e = r["lattice_elastic"];
+    const char* of = e["regular_lattice"].get<bool>() ? "" : " (of the regular lattice: the offsets lower E)";
+    auto text = [](const json& c, const char* unit) {
+      return fmt::format("E = {:.4g} {}, nu = {:.4g}", c["youngs_modulus"].get<double>(), unit,
+                         c["poisson_ratio"].get<double>());
+    };
+    if (e.contains("isotropic")) {
+      std::printf("elastic      %-14s %s (per unit thickness, isotropic)%s\n",
+                  r["name"].get<std::string>().c_str(), text(e["isotropic"], "N/m").c_str(), of);
+    } else {
+      std::printf("elastic      %-14s along z %s; isotropic average %s%s\n",
+                  r["name"].get<std::string>().c_str(), text(e["along_z"], "Pa").c_str(),
+                  text(e["isotropic_average"], "Pa").c_str(), of);
+      if (e.contains("along_cube_axis"))
+        std::printf("elastic      %-14s along a cube axis [100] %s\n", r["name"].get<std::string>().c_str(),
+                    text(e["along_cube_axis"], "Pa").c_str());
+    }
+  }
   for (const auto& [name, n] : j["groups"].items())
     std::printf("group        %-14s %zu particles\n", name.c_str(), n.get<std::size_t>());
   std::printf("particles    %zu\nbonds        %zu\nFEM          %zu nodes, %zu elements\n",

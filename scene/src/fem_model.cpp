@@ -4,6 +4,7 @@
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/numbers.hpp>
+#include <strata/dem/lattice_elastic.hpp>
 #include <strata/fem/mesh.hpp>
 #include <strata/fem/solver.hpp>
 #include <strata/preprocess/overlap.hpp>
@@ -34,15 +35,17 @@ fem::Material continuum(const MaterialTable& mat, int dim, double thickness, dou
     m.E = mat.youngs_modulus;
     m.nu = mat.poisson_ratio;
   } else if (dim == 2) {
-    m.E = 2 * std::numbers::sqrt3 * kn * (kn + ks) / (3 * kn + ks) / thickness;
-    m.nu = (kn - ks) / (3 * kn + ks);
+    const dem::LatticeElastic e = dem::hex_elastic(kn, ks);
+    m.E = e.E / thickness;
+    m.nu = e.nu;
   } else {
     STRATA_CHECK(diameter > 0, Input,
                  "{}: material '{}' fills an FEM region of a scene without particles: "
                  "give it youngs_modulus and poisson_ratio",
                  mat.name.pos.str(), mat.name.value);
-    m.E = 2 * std::numbers::sqrt2 * kn * (2 * kn + 3 * ks) / (diameter * (4 * kn + ks));
-    m.nu = (kn - ks) / (4 * kn + ks);
+    const dem::LatticeElastic e = dem::close_packed_isotropic_elastic(kn, ks, diameter);
+    m.E = e.E;
+    m.nu = e.nu;
   }
   m.rho = dim == 2 ? mat.density / thickness : mat.density;
   m.thickness = thickness;

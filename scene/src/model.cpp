@@ -161,6 +161,7 @@ void add_overlap_band(const Scene& sc, const preprocess::OverlapModel& ov, Model
   info.lattice = d.regions.front().lattice;
   info.diameter = d.regions.front().diameter;
   info.particles = l.size();
+  info.material = first->material;
   RegionSites s;
   s.first_id = next_id;
   s.material = first->material;
@@ -304,6 +305,7 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
     }
     RegionInfo info;
     info.name = r.name;
+    info.material = r.material;
     const Shape shape = shape_of(r, dim);
     const auto kind = lattice_of(r, dim, info.lattice);
     info.diameter = r.diameter;
@@ -343,7 +345,7 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
       o.gamma = r.gamma;
       o.seed = std::uint64_t(st.seed.value) + d.regions.size();  // one stream per region
       preprocess::EccLattice e = preprocess::make_eccentric(f.lattice(), o);
-      s.eccentric = true;
+      s.eccentric = info.eccentric = true;
       s.sites = std::move(e.lattice);
       s.bonds = std::move(e.bonds);
       d.bonds_across_regions = false;

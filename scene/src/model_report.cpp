@@ -5,6 +5,7 @@
 #include <strata/core/log.hpp>
 #include <strata/core/memory.hpp>
 #include <strata/core/parallel.hpp>
+#include <strata/dem/lattice_elastic.hpp>
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
 #include <strata/io/series.hpp>
@@ -21,16 +22,41 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
+/// The analytical elastic constants of a region's regular lattice with its material's Kn
+/// and Ks (2D: hexagonal, isotropic, E per unit thickness in N/m; 3D: along the stacking
+/// axis z, for FCC also along a cube axis, and the isotropic average, in Pa).
+json lattice_elastic_json(const MaterialTable& mat, int dim, const RegionInfo& r) {
+  auto entry = [](const dem::LatticeElastic& e) {
+    return json{{"youngs_modulus", e.E}, {"poisson_ratio", e.nu}};
+  };
+  json j = {{"regular_lattice", !r.eccentric}};
+  if (dim == 2) {
+    j["unit"] = "N/m (E times the thickness)";
+    j["isotropic"] = entry(dem::hex_elastic(mat.kn, mat.ks));
+    return j;
+  }
+  j["unit"] = "Pa";
+  j["along_z"] = entry(dem::close_packed_stacking_axis_elastic(mat.kn, mat.ks, r.diameter));
+  if (r.lattice == "fcc")
+    j["along_cube_axis"] = entry(dem::fcc_cube_axis_elastic(mat.kn, mat.ks, r.diameter));
+  j["isotropic_average"] = entry(dem::close_packed_isotropic_elastic(mat.kn, mat.ks, r.diameter));
+  return j;
+}
+
 /// What every model report holds: scene, regions, groups (`strata check`, `run`, `mesh`).
 json model_counts_json(const Scene& sc, int dim, const std::vector<RegionInfo>& regions_in,
                        const std::map<std::string, std::size_t>& groups_in) {
   json regions = json::array();
-  for (const auto& r : regions_in)
-    regions.push_back({{"name", r.name},
-                       {"lattice", r.lattice},
-                       {"particles", r.particles},
-                       {"diameter_m", r.diameter},
-                       {"packing_density", r.packing}});
+  for (const auto& r : regions_in) {
+    json region = {{"name", r.name},
+                   {"lattice", r.lattice},
+                   {"particles", r.particles},
+                   {"diameter_m", r.diameter},
+                   {"packing_density", r.packing}};
+    for (const auto& mat : sc.materials)
+      if (mat.name.value == r.material) region["lattice_elastic"] = lattice_elastic_json(mat, dim, r);
+    regions.push_back(std::move(region));
+  }
   json groups = json::object();
   for (const auto& [name, n] : groups_in) groups[name] = n;
   return {{"scene", sc.file.string()},

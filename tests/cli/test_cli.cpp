@@ -108,6 +108,24 @@ TEST(Cli, CheckPrintsDerivedNumbers) {
   EXPECT_EQ(r.status, 0) << r.output;
   for (const char* what : {"particles", "bonds", "memory", "dt_crit", "dt/dt_crit"})
     EXPECT_NE(r.output.find(what), std::string::npos) << what << "\n" << r.output;
+  // The hexagonal lattice's elastic constants with Kn = 6.587e10, Ks = 2.371e10 N/m:
+  // E·t = 2√3·Kn(Kn+Ks)/(3Kn+Ks) = 9.236e10 N/m and ν = (Kn−Ks)/(3Kn+Ks) = 0.1905 (to the 4
+  // digits printed; the block's measured E is within 1 % of it, test_elastic).
+  EXPECT_NE(r.output.find("E = 9.236e+10 N/m, nu = 0.1905 (per unit thickness, isotropic)"),
+            std::string::npos)
+      << r.output;
+  // The same in 3D (HCP): along z E = 6√2·Kn(Kn+Ks)/(d(5Kn+Ks)) = 1.418e14 Pa and
+  // ν = (Kn−Ks)/(5Kn+Ks) = 0.1194; isotropic average 2√2·Kn(2Kn+3Ks)/(d(4Kn+Ks)) = 1.316e14 Pa,
+  // ν = (Kn−Ks)/(4Kn+Ks) = 0.1468 (d = 1 mm).
+  const std::string three_d = "[scene]\ndimension = 3\n" + kMaterial +
+                              "[[region]]\nname = \"block\"\nmaterial = \"rock\"\ndiameter = 0.001\n"
+                              "size = [0.006, 0.006, 0.006]\n[solver]\nsteps = 10\n";
+  const auto r3 = strata("check " + write(d, "ok3.toml", three_d).string());
+  EXPECT_EQ(r3.status, 0) << r3.output;
+  EXPECT_NE(r3.output.find(
+                "along z E = 1.418e+14 Pa, nu = 0.1194; isotropic average E = 1.316e+14 Pa, nu = 0.1468"),
+            std::string::npos)
+      << r3.output;
   EXPECT_FALSE(fs::exists(d / "out")) << "check must not write output";
   fs::remove_all(d);
 }

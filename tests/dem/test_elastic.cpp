@@ -3,6 +3,7 @@
 #include "dem_test_util.hpp"
 
 #include <gtest/gtest.h>
+#include <strata/dem/lattice_elastic.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -122,7 +123,7 @@ TEST(Elastic, HexBlockMatchesLatticeConstants) {
   // block; stress from the bond virial and strains from a displacement fit, both over the
   // interior (middle half in x and y): within 1 %.
   const double kn = 6.587e10, ks = 2.371e10;
-  const double E = 2 * std::sqrt(3.0) * kn * (kn + ks) / (3 * kn + ks), nu = (kn - ks) / (3 * kn + ks);
+  const auto [E, nu] = dem::hex_elastic(kn, ks);
   const int rows = 60, cols = 60;
   const auto lat = preprocess::hex2d_rows(rows, cols, kC1d);
   const Measured r = measure(2, lat, cols * kC1d);  // width per row: cols·d
@@ -146,7 +147,7 @@ TEST(Elastic, HcpBlockAlongCAxisMatchesLatticeConstants) {
   // (middle half of the block): within 3 % (the remaining 1/n surface effect: a 14 mm
   // block gives ν 4 % low; the lateral interior stress is 0.3 % of the axial one).
   const double kn = 6.587e10, ks = 2.371e10, d = kC1d;
-  const double E = 6 * std::sqrt(2.0) * kn * (kn + ks) / (d * (5 * kn + ks)), nu = (kn - ks) / (5 * kn + ks);
+  const auto [E, nu] = dem::close_packed_stacking_axis_elastic(kn, ks, d);
   const auto lat =
       preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {20e-3, 20e-3, 20e-3}, d);
   const double area = static_cast<double>(preprocess::top_layer(lat).size()) * std::sqrt(3.0) / 2 * d * d;

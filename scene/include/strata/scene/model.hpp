@@ -28,8 +28,10 @@ struct RegionInfo {
   std::string lattice;  ///< "hex", "hcp" or "fcc"
   std::size_t particles = 0;
   double diameter = 0;
-  double measure = 0;  ///< area (2D) or volume (3D) of the shape
-  double packing = 0;  ///< particle area/volume over the shape's
+  double measure = 0;      ///< area (2D) or volume (3D) of the shape
+  double packing = 0;      ///< particle area/volume over the shape's
+  std::string material;    ///< its [[material]]
+  bool eccentric = false;  ///< centroids offset (the regular lattice's elastic constants do not hold)
 };
 
 /// The particles of one region as filled: sites in id order (ids first_id, first_id + 1,

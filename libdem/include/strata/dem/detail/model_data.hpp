@@ -50,6 +50,7 @@ struct BcParticle {
   double f_int[3]{};          // last internal force
   double w_ahead = 0;         // work booked for the half interval after the last step
   double w_ahead_ex = 0;      // the part of w_ahead on exchange axes
+  double ke_driven = 0;       // ½·Σ v(n-½)·v(n+½)/m⁻¹ over the prescribed axes, last step
 };
 
 /// Rigid frictionless plane: point, unit normal (towards the particles), velocity, stiffness.

@@ -496,6 +496,7 @@ class Engine final : public LawEngine<D> {
           bc.w_ahead = 0;
           bc.w_ahead_ex = 0;
           double v2f = 0;  // over the free axes
+          double vv_driven = 0;
           for (int a = 0; a < D; ++a) {
             bc.f_int[a] = F[a];
             const double vo = V[a][p];
@@ -521,6 +522,7 @@ class Engine final : public LawEngine<D> {
                 bc.w_ahead_ex -= 0.5 * fr * dx;
               }
               bc.dx_prev[a] = dx;
+              vv_driven += vo * vn;
             }
             V[a][p] = vn;
             X[a][p] += vn * dt;
@@ -528,6 +530,7 @@ class Engine final : public LawEngine<D> {
             vv += vo * vn;
           }
           vfree2 = std::max(vfree2, v2f);
+          bc.ke_driven = 0.5 * vv_driven / imass;
         }
         vmax2 = std::max(vmax2, v2);
         if constexpr (kEnergy) ke += 0.5 * vv / imass;
