@@ -119,10 +119,6 @@ class Loader {
     throw SceneError(ErrorKind::Input, first->pos.str() + ": " + first->message);
   }
 
-  [[noreturn]] void fail_at(const SourcePos& pos, const std::string& message) const {
-    throw SceneError(ErrorKind::Input, pos.str() + ": " + message);
-  }
-
   /// The value as the user wrote it (`-5`, `"fast"`), or TOML-formatted when that is unknown.
   std::string raw(const toml::node& n) const {
     const auto& s = n.source();

@@ -76,24 +76,31 @@ void check_fits(const RegionTable& r, int dim, double measure, double& total) {
   if (n > 2e6) log::info("region '{}': filling about {:.3g} particles", r.name.value, n);
 }
 
-/// Fills a shape = "file" region; geometry files are read once per path.
-Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind kind, double d, double& total,
-                        std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
+/// The geometry of a shape = "file" region and its region in it: a file is read once per
+/// path, mesh size and unit (`cache`); errors point at the `file` and `physical` keys.
+void with_geometry(Filled& f, const RegionTable& r, const preprocess::GeometryOptions& go,
+                   std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
   const std::string file = r.file->string();
-  // mesh_size: the largest element of the geometry mesh the inside tests use (0: the file's
-  // own sizes); curved CAD surfaces need it near the particle size to be filled to their volume.
-  auto& geo = cache[fmt::format("{}#{}#{}", file, r.mesh_size.value, metres(r.unit))];
-  if (!geo) {
-    preprocess::GeometryOptions go;
-    go.dim = dim;
-    go.mesh_size = r.mesh_size;
-    go.unit = metres(r.unit);
+  auto& geo = cache[fmt::format("{}#{}#{}", file, go.mesh_size, go.unit)];
+  if (!geo)
     geo = r.file.blame(
         [&] { return std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go)); });
-  }
-  Filled f;
   f.geometry = geo;
   f.region = r.physical.blame([&] { return geo->region(r.physical); });
+}
+
+/// Fills a shape = "file" region.
+Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind kind, double d, double& total,
+                        std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
+  // mesh_size: the largest element of the geometry mesh the inside tests use (0: the file's
+  // own sizes); curved CAD surfaces need it near the particle size to be filled to their volume.
+  preprocess::GeometryOptions go;
+  go.dim = dim;
+  go.mesh_size = r.mesh_size;
+  go.unit = metres(r.unit);
+  Filled f;
+  with_geometry(f, r, go, cache);
+  const auto& geo = f.geometry;
   preprocess::FillOptions fo;
   fo.kind = kind;
   fo.d = d;
@@ -129,16 +136,9 @@ Filled coupled_region(const RegionTable& r, const preprocess::OverlapModel& ov, 
       l.layer.push_back(ov.particles.layer[i]);
     }
   }
-  const std::string file = r.file->string();
-  auto& geo = cache[file];
-  if (!geo) {
-    preprocess::GeometryOptions go;
-    go.dim = dim;
-    geo = r.file.blame(
-        [&] { return std::make_shared<const preprocess::Geometry>(preprocess::read_geometry(file, go)); });
-  }
-  f.geometry = geo;
-  f.region = r.physical.blame([&] { return geo->region(r.physical); });
+  preprocess::GeometryOptions go;
+  go.dim = dim;
+  with_geometry(f, r, go, cache);
   return f;
 }
 
