@@ -7,18 +7,24 @@
 #include <strata/core/error.hpp>
 
 #include <algorithm>
+#include <cmath>
 
 namespace strata::dem::detail {
 
 std::array<double, 3> ForceHistory::at(double time) const {
   if (t.empty()) return {};
-  if (time <= t.front()) return f.front();
-  if (time >= t.back()) return f.back();
-  const auto it = std::upper_bound(t.begin(), t.end(), time);
-  const std::size_t k = static_cast<std::size_t>(it - t.begin());
-  const double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
   std::array<double, 3> r{};
-  for (int a = 0; a < 3; ++a) r[a] = (1 - w) * f[k - 1][a] + w * f[k][a];
+  if (time <= t.front()) {
+    r = f.front();
+  } else if (time >= t.back()) {
+    r = f.back();
+  } else {
+    const auto it = std::upper_bound(t.begin(), t.end(), time);
+    const std::size_t k = static_cast<std::size_t>(it - t.begin());
+    const double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
+    for (int a = 0; a < 3; ++a) r[a] = (1 - w) * f[k - 1][a] + w * f[k][a];
+  }
+  if (radial) r[1] = r[2] = r[0];  // the magnitude, for every axis of load_dir
   return r;
 }
 
@@ -27,16 +33,19 @@ std::array<double, 3> ForceHistory::at(double time) const {
 template <int D>
 void Model<D>::resolve_bcs() {
   std::vector<BcParticle> out;
+  // the specs that apply to each set of groups, in the order they were given
+  std::vector<std::vector<const BcSpec*>> specs_of(group_sets.size());
+  for (std::size_t k = 0; k < group_sets.size(); ++k)
+    for (const auto& s : bc_specs)
+      if (std::binary_search(group_sets[k].begin(), group_sets[k].end(), s.group)) specs_of[k].push_back(&s);
   const std::size_t N = n();
   for (std::size_t p = 0; p < N; ++p) {
     flags[p] = 0;
-    if (grp[p] == 0) continue;
+    if (specs_of[grp[p]].empty()) continue;
     BcParticle b;
     b.index = static_cast<std::uint32_t>(p);
-    bool any = false;
-    for (const auto& s : bc_specs) {
-      if (!(grp[p] & s.mask)) continue;
-      any = true;
+    for (const BcSpec* sp : specs_of[grp[p]]) {
+      const BcSpec& s = *sp;
       if (s.kind == BcSpec::Force) {
         b.history = s.history;
         continue;
@@ -58,7 +67,6 @@ void Model<D>::resolve_bcs() {
         }
       }
     }
-    if (!any) continue;
     // keep the trapezoid history of particles that already had a condition
     auto old = std::lower_bound(bcp.begin(), bcp.end(), b.index,
                                 [](const BcParticle& q, std::uint32_t i) { return q.index < i; });
@@ -70,8 +78,31 @@ void Model<D>::resolve_bcs() {
     out.push_back(b);
   }
   bcp = std::move(out);
+  set_load_directions();
   bcs_dirty = false;
   v2_alarm = -1;  // the speed test between checks is set anew for these conditions
+}
+
+template <int D>
+void Model<D>::set_load_directions() {
+  for (BcParticle& b : bcp) {
+    std::fill(b.load_dir, b.load_dir + 3, 1.0);
+    if (b.history < 0 || !histories[static_cast<std::size_t>(b.history)].radial) continue;
+    const ForceHistory& h = histories[static_cast<std::size_t>(b.history)];
+    // start position (x0 is set by initialise(); before that the position is the start)
+    double r[3] = {0, 0, 0}, along = 0, len2 = 0, axis2 = 0;
+    for (int a = 0; a < D; ++a) {
+      const double x_start = x0[a].empty() ? x[a][b.index] : x0[a][b.index];
+      r[a] = x_start - h.centre[a];
+      along += r[a] * h.axis[a];
+      axis2 += h.axis[a] * h.axis[a];
+    }
+    if (axis2 > 0)
+      for (int a = 0; a < D; ++a) r[a] -= along / axis2 * h.axis[a];
+    for (int a = 0; a < D; ++a) len2 += r[a] * r[a];
+    const double len = std::sqrt(len2);
+    for (int a = 0; a < 3; ++a) b.load_dir[a] = a < D && len > 0 ? r[a] / len : 0.0;
+  }
 }
 
 template <int D>
@@ -106,6 +137,7 @@ void Model<D>::kinematics(std::size_t ident, std::array<double, 3>& u, std::arra
 
 #define STRATA_DEM_INSTANTIATE(D)                                                   \
   template void Model<D>::resolve_bcs();                                            \
+  template void Model<D>::set_load_directions();                                    \
   template void Model<D>::set_kinematics(std::size_t, const std::array<double, 3>&, \
                                          const std::array<double, 3>&);             \
   template void Model<D>::kinematics(std::size_t, std::array<double, 3>&, std::array<double, 3>&) const;

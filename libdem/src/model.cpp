@@ -55,7 +55,7 @@ void Model<D>::reserve(std::size_t cap) {
 }
 
 template <int D>
-std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, std::uint32_t g, double mass) {
+std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, double mass) {
   STRATA_CHECK(m >= 0 && m < static_cast<int>(materials.size()), Input,
                "add_particle: material {} does not exist ({} defined)", m, materials.size());
   STRATA_CHECK(r > 0 && std::isfinite(r), Input, "add_particle: radius {} must be > 0 (m)", r);
@@ -75,7 +75,7 @@ std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, std
   if (nmat != static_cast<int>(materials.size())) refresh_laws();
   const std::size_t ident = n() - 1;
   id.push_back(static_cast<std::uint32_t>(ident));
-  grp.push_back(g);
+  grp.push_back(0);  // no group yet
   mat.push_back(static_cast<std::uint8_t>(m));
   flags.push_back(0);
   bonds.off.push_back(static_cast<std::uint32_t>(bonds.size()));
@@ -119,20 +119,25 @@ void Model<D>::set_velocity(std::size_t ident, std::array<double, 3> vel) {
 }
 
 template <int D>
-void Model<D>::add_group_bits(const std::vector<std::uint32_t>& ids, std::uint32_t mask) {
+void Model<D>::add_to_group(const std::vector<std::uint32_t>& ids, std::uint32_t group) {
   const auto inv = index_of_id();
+  // the new set of each old set, found once (particles share few sets)
+  std::vector<std::uint32_t> moved(group_sets.size(), 0xffffffffu);
   for (const auto k : ids) {
     STRATA_CHECK(k < n(), Input, "group: no particle with id {}", k);
-    grp[inv[k]] |= mask;
+    std::uint32_t& s = grp[inv[k]];
+    if (moved[s] == 0xffffffffu) moved[s] = set_with(s, group);
+    s = moved[s];
   }
   bcs_dirty = true;
 }
 
 template <int D>
-std::vector<std::uint32_t> Model<D>::members(std::uint32_t mask) const {
+std::vector<std::uint32_t> Model<D>::members(std::uint32_t group) const {
+  const auto in = sets_holding({group});
   std::vector<std::uint32_t> out;
   for (std::size_t i = 0; i < n(); ++i)
-    if (grp[i] & mask) out.push_back(id[i]);
+    if (in[grp[i]]) out.push_back(id[i]);
   std::sort(out.begin(), out.end());
   return out;
 }
@@ -283,6 +288,26 @@ std::size_t Model<D>::memory_bytes() const {
   return b;
 }
 
+std::uint32_t ModelBase::set_with(std::uint32_t set, std::uint32_t group) {
+  std::vector<std::uint32_t> want = group_sets[set];
+  const auto at = std::lower_bound(want.begin(), want.end(), group);
+  if (at != want.end() && *at == group) return set;
+  want.insert(at, group);
+  const auto found = std::find(group_sets.begin(), group_sets.end(), want);
+  if (found != group_sets.end()) return static_cast<std::uint32_t>(found - group_sets.begin());
+  STRATA_CHECK(group_sets.size() < 0xffffffffu, Input, "group: too many combinations of groups");
+  group_sets.push_back(std::move(want));
+  return static_cast<std::uint32_t>(group_sets.size() - 1);
+}
+
+std::vector<std::uint8_t> ModelBase::sets_holding(const std::vector<std::uint32_t>& groups) const {
+  std::vector<std::uint8_t> out(group_sets.size(), 0);
+  for (std::size_t s = 0; s < group_sets.size(); ++s)
+    for (const std::uint32_t g : groups)
+      if (std::binary_search(group_sets[s].begin(), group_sets[s].end(), g)) out[s] = 1;
+  return out;
+}
+
 template <int D>
 std::unique_ptr<ModelBase> make_model(const Settings& s) {
   return std::make_unique<Model<D>>(s);
@@ -292,11 +317,11 @@ template std::unique_ptr<ModelBase> make_model<3>(const Settings&);
 
 #define STRATA_DEM_INSTANTIATE(D)                                                                         \
   template void Model<D>::reserve(std::size_t);                                                           \
-  template std::size_t Model<D>::add_particle(std::array<double, 3>, double, int, std::uint32_t, double); \
+  template std::size_t Model<D>::add_particle(std::array<double, 3>, double, int, double);                \
   template std::vector<std::uint32_t> Model<D>::index_of_id() const;                                      \
   template std::size_t Model<D>::index_of(std::size_t, const char*) const;                                \
   template void Model<D>::set_velocity(std::size_t, std::array<double, 3>);                               \
-  template void Model<D>::add_group_bits(const std::vector<std::uint32_t>&, std::uint32_t);               \
+  template void Model<D>::add_to_group(const std::vector<std::uint32_t>&, std::uint32_t);                 \
   template std::vector<std::uint32_t> Model<D>::members(std::uint32_t) const;                             \
   template void Model<D>::sort_particles();                                                               \
   template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>&)   \

@@ -30,7 +30,7 @@ namespace strata::dem::detail {
 
 struct BcSpec {
   enum Kind { Fix, Velocity, StepDisp, Force } kind;
-  std::uint32_t mask;
+  std::uint32_t group;  ///< index into ModelBase::group_names
   unsigned axes;
   std::array<double, 3> value{};
   std::int64_t every = 0;
@@ -40,7 +40,13 @@ struct BcSpec {
 
 struct ForceHistory {
   std::vector<double> t;
-  std::vector<std::array<double, 3>> f;
+  std::vector<std::array<double, 3>> f;  ///< radial: the magnitude in f[k][0]
+  /// A radial load: each particle is pushed along the unit vector from `centre` to its start
+  /// position, with the component along `axis` removed (a borehole; axis 0: from the point).
+  bool radial = false;
+  std::array<double, 3> centre{}, axis{};
+  /// The force at `time`; a radial load's magnitude on every axis (BcParticle::load_dir
+  /// turns it into a vector).
   std::array<double, 3> at(double time) const;
 };
 
@@ -84,14 +90,22 @@ class ModelBase {
   Settings settings;
   std::vector<Material> materials;
   std::vector<std::string> group_names;
+  /// The distinct sets of groups particles belong to, each sorted ascending (indices into
+  /// group_names); set 0 is the empty set and a particle's entry in grp is the index of its
+  /// set. Particles share few combinations of groups, so membership costs 4 bytes per
+  /// particle whatever the number of groups.
+  std::vector<std::vector<std::uint32_t>> group_sets{{}};
+  /// Index of the set `set` ∪ {group}, added when new.
+  std::uint32_t set_with(std::uint32_t set, std::uint32_t group);
+  /// One entry per set: 1 when it holds one of `groups`.
+  std::vector<std::uint8_t> sets_holding(const std::vector<std::uint32_t>& groups) const;
   std::vector<BcSpec> bc_specs;
   std::vector<ForceHistory> histories;
   std::vector<Wall> walls;
 
   virtual int dim() const = 0;
   virtual void reserve(std::size_t n) = 0;
-  virtual std::size_t add_particle(std::array<double, 3> x, double r, int mat, std::uint32_t g,
-                                   double mass) = 0;
+  virtual std::size_t add_particle(std::array<double, 3> x, double r, int mat, double mass) = 0;
   virtual std::size_t particle_count() const = 0;
   virtual void bond_touching_pairs(double tol) = 0;
   virtual void set_bonds(const std::vector<std::uint32_t>& i, const std::vector<std::uint32_t>& j,
@@ -101,8 +115,8 @@ class ModelBase {
   virtual void set_kinematics(std::size_t id, const std::array<double, 3>& u,
                               const std::array<double, 3>& v) = 0;
   virtual void kinematics(std::size_t id, std::array<double, 3>& u, std::array<double, 3>& v) const = 0;
-  virtual void add_group_bits(const std::vector<std::uint32_t>& ids, std::uint32_t mask) = 0;
-  virtual std::vector<std::uint32_t> members(std::uint32_t mask) const = 0;
+  virtual void add_to_group(const std::vector<std::uint32_t>& ids, std::uint32_t group) = 0;
+  virtual std::vector<std::uint32_t> members(std::uint32_t group) const = 0;
   virtual void bcs_changed() = 0;
   virtual void initialise() = 0;
   virtual double critical_dt() const = 0;
@@ -116,7 +130,7 @@ class ModelBase {
   virtual std::int64_t step_count() const = 0;
   virtual double time() const = 0;
   virtual std::int64_t last_good_step() const = 0;
-  virtual std::array<double, 3> group_force(std::uint32_t mask) const = 0;
+  virtual std::array<double, 3> group_force(std::uint32_t group) const = 0;
   virtual double kinetic_energy() const = 0;
   virtual double bond_energy() const = 0;
   virtual double external_work() const = 0;
@@ -133,7 +147,8 @@ class ModelBase {
   virtual std::vector<std::array<double, 3>> displacements() const = 0;
   virtual std::vector<double> radii() const = 0;
   virtual std::vector<std::uint32_t> ids() const = 0;
-  virtual std::vector<std::uint32_t> group_bits() const = 0;
+  /// Each particle's index into group_sets (internal order).
+  virtual const std::vector<std::uint32_t>& particle_sets() const = 0;
   virtual std::vector<float> damage() const = 0;
   virtual std::vector<PairView> pairs(bool bonds) const = 0;
   virtual std::size_t memory_bytes() const = 0;
@@ -227,13 +242,13 @@ class Model final : public ModelBase, public ModelData<D> {
 
   // ---- storage and spatial order (model.cpp) ---------------------------------------------
   void reserve(std::size_t cap) override;
-  std::size_t add_particle(std::array<double, 3> p, double r, int m, std::uint32_t g, double mass) override;
+  std::size_t add_particle(std::array<double, 3> p, double r, int m, double mass) override;
   std::size_t particle_count() const override { return n(); }
   std::vector<std::uint32_t> index_of_id() const;
   std::size_t index_of(std::size_t ident, const char* what) const;
   void set_velocity(std::size_t ident, std::array<double, 3> vel) override;
-  void add_group_bits(const std::vector<std::uint32_t>& ids, std::uint32_t mask) override;
-  std::vector<std::uint32_t> members(std::uint32_t mask) const override;
+  void add_to_group(const std::vector<std::uint32_t>& ids, std::uint32_t group) override;
+  std::vector<std::uint32_t> members(std::uint32_t group) const override;
   void bcs_changed() override { bcs_dirty = true; }
   void sort_particles();
   std::vector<std::array<double, 3>> pack(const std::array<std::vector<double>, D>& a) const;
@@ -242,7 +257,7 @@ class Model final : public ModelBase, public ModelData<D> {
   std::vector<std::array<double, 3>> displacements() const override;
   std::vector<double> radii() const override { return rad; }
   std::vector<std::uint32_t> ids() const override { return id; }
-  std::vector<std::uint32_t> group_bits() const override { return grp; }
+  const std::vector<std::uint32_t>& particle_sets() const override { return grp; }
   std::vector<float> damage() const override;
   std::size_t memory_bytes() const override;
 
@@ -269,6 +284,8 @@ class Model final : public ModelBase, public ModelData<D> {
 
   // ---- boundary conditions and driven particles (boundary.cpp) ---------------------------
   void resolve_bcs();
+  /// BcParticle::load_dir of every particle with a condition, from its start position.
+  void set_load_directions();
   void set_kinematics(std::size_t ident, const std::array<double, 3>& u,
                       const std::array<double, 3>& vel) override;
   void kinematics(std::size_t ident, std::array<double, 3>& u, std::array<double, 3>& vel) const override;
@@ -317,7 +334,7 @@ class Model final : public ModelBase, public ModelData<D> {
   // ---- probes (probes.cpp) ---------------------------------------------------------------
   double dry_bond_energy() const;
   double dry_kinetic() const;
-  std::array<double, 3> group_force(std::uint32_t mask) const override;
+  std::array<double, 3> group_force(std::uint32_t group) const override;
   double kinetic_energy() const override;
   double bond_energy() const override;
   double external_work() const override;

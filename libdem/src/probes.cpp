@@ -25,9 +25,10 @@ double Model<D>::dry_kinetic() const {
 }
 
 template <int D>
-std::array<double, 3> Model<D>::group_force(std::uint32_t mask) const {
+std::array<double, 3> Model<D>::group_force(std::uint32_t group) const {
   if (!engine) return {0, 0, 0};
-  return engine->group_force(*this, walls.data(), walls.size(), settings.dt, mask);
+  const auto in = sets_holding({group});
+  return engine->group_force(*this, walls.data(), walls.size(), settings.dt, in.data());
 }
 
 template <int D>

@@ -41,9 +41,8 @@ int Simulation::add_material(const Material& m) {
   return static_cast<int>(m_->materials.size()) - 1;
 }
 void Simulation::reserve(std::size_t n) { m_->reserve(n); }
-std::size_t Simulation::add_particle(std::array<double, 3> x, double radius, int material,
-                                     std::uint32_t groups, double mass) {
-  return m_->add_particle(x, radius, material, groups, mass);
+std::size_t Simulation::add_particle(std::array<double, 3> x, double radius, int material, double mass) {
+  return m_->add_particle(x, radius, material, mass);
 }
 std::size_t Simulation::particle_count() const { return m_->particle_count(); }
 void Simulation::bond_touching_pairs(double tolerance) { m_->bond_touching_pairs(tolerance); }
@@ -53,38 +52,60 @@ void Simulation::set_bonds(const std::vector<std::uint32_t>& first, const std::v
 }
 void Simulation::set_velocity(std::size_t id, std::array<double, 3> v) { m_->set_velocity(id, v); }
 
-int Simulation::group_bit(const std::string& name) {
+int Simulation::group_index(const std::string& name) {
   auto& g = m_->group_names;
   const auto it = std::find(g.begin(), g.end(), name);
   if (it != g.end()) return static_cast<int>(it - g.begin());
-  STRATA_CHECK(g.size() < 32, Input, "group '{}': at most 32 groups", name);
   g.push_back(name);
   return static_cast<int>(g.size()) - 1;
 }
 void Simulation::add_to_group(const std::vector<std::uint32_t>& ids, const std::string& name) {
-  m_->add_group_bits(ids, 1u << group_bit(name));
-}
-std::vector<std::uint32_t> Simulation::group_members(const std::string& name) const {
-  const auto& g = m_->group_names;
-  const auto it = std::find(g.begin(), g.end(), name);
-  STRATA_CHECK(it != g.end(), Input, "no group named '{}'", name);
-  return m_->members(1u << (it - g.begin()));
+  m_->add_to_group(ids, static_cast<std::uint32_t>(group_index(name)));
 }
 
 namespace {
-std::uint32_t mask_of(Simulation& s, const std::string& group) { return 1u << s.group_bit(group); }
+std::uint32_t existing_group(const detail::ModelBase& m, const std::string& name) {
+  const auto& g = m.group_names;
+  const auto it = std::find(g.begin(), g.end(), name);
+  STRATA_CHECK(it != g.end(), Input, "no group named '{}'", name);
+  return static_cast<std::uint32_t>(it - g.begin());
+}
+std::uint32_t group_of(Simulation& s, const std::string& name) {
+  return static_cast<std::uint32_t>(s.group_index(name));
+}
 }  // namespace
 
+std::vector<std::uint32_t> Simulation::group_members(const std::string& name) const {
+  return m_->members(existing_group(*m_, name));
+}
+std::vector<std::uint8_t> Simulation::in_groups(const std::vector<std::string>& names) const {
+  std::vector<std::uint32_t> groups;
+  for (const auto& name : names) groups.push_back(existing_group(*m_, name));
+  const auto in = m_->sets_holding(groups);
+  const auto& sets = m_->particle_sets();
+  std::vector<std::uint8_t> out(sets.size());
+  for (std::size_t i = 0; i < sets.size(); ++i) out[i] = in[sets[i]];
+  return out;
+}
+std::vector<std::int32_t> Simulation::last_group() const {
+  std::vector<std::int32_t> of_set;
+  for (const auto& s : m_->group_sets) of_set.push_back(s.empty() ? -1 : static_cast<std::int32_t>(s.back()));
+  const auto& sets = m_->particle_sets();
+  std::vector<std::int32_t> out(sets.size());
+  for (std::size_t i = 0; i < sets.size(); ++i) out[i] = of_set[sets[i]];
+  return out;
+}
+
 void Simulation::fix(const std::string& group, unsigned axes) {
-  m_->bc_specs.push_back({detail::BcSpec::Fix, mask_of(*this, group), axes, {}, 0, -1});
+  m_->bc_specs.push_back({detail::BcSpec::Fix, group_of(*this, group), axes, {}, 0, -1});
   m_->bcs_changed();
 }
 void Simulation::prescribe_velocity(const std::string& group, std::array<double, 3> v, unsigned axes) {
-  m_->bc_specs.push_back({detail::BcSpec::Velocity, mask_of(*this, group), axes, v, 0, -1});
+  m_->bc_specs.push_back({detail::BcSpec::Velocity, group_of(*this, group), axes, v, 0, -1});
   m_->bcs_changed();
 }
 void Simulation::drive(const std::string& group, unsigned axes, bool exchange) {
-  m_->bc_specs.push_back({detail::BcSpec::Velocity, mask_of(*this, group), axes, {}, 0, -1, exchange});
+  m_->bc_specs.push_back({detail::BcSpec::Velocity, group_of(*this, group), axes, {}, 0, -1, exchange});
   m_->bcs_changed();
 }
 void Simulation::set_kinematics(std::size_t id, const std::array<double, 3>& u,
@@ -104,7 +125,7 @@ void Simulation::step_displacement(const std::string& group, std::array<double, 
     STRATA_CHECK((axes >> a & 1u) || increment[a] == 0, Input,
                  "step_displacement: an increment of {} along axis {} that is not prescribed", increment[a],
                  a);
-  m_->bc_specs.push_back({detail::BcSpec::StepDisp, mask_of(*this, group), axes, increment, every_steps, -1});
+  m_->bc_specs.push_back({detail::BcSpec::StepDisp, group_of(*this, group), axes, increment, every_steps, -1});
   m_->bcs_changed();
 }
 void Simulation::force_history(const std::string& group, std::vector<double> times,
@@ -115,8 +136,19 @@ void Simulation::force_history(const std::string& group, std::vector<double> tim
   STRATA_CHECK(std::is_sorted(times.begin(), times.end()), Input, "force_history: times must be ascending");
   m_->histories.push_back({std::move(times), std::move(forces)});
   const int h = static_cast<int>(m_->histories.size()) - 1;
-  m_->bc_specs.push_back({detail::BcSpec::Force, mask_of(*this, group), 0, {}, 0, h});
+  m_->bc_specs.push_back({detail::BcSpec::Force, group_of(*this, group), 0, {}, 0, h});
   m_->bcs_changed();
+}
+void Simulation::radial_force_history(const std::string& group, std::vector<double> times,
+                                      std::vector<double> magnitudes, std::array<double, 3> centre,
+                                      std::array<double, 3> axis) {
+  std::vector<std::array<double, 3>> f;
+  for (double m : magnitudes) f.push_back({m, 0, 0});
+  force_history(group, std::move(times), std::move(f));
+  detail::ForceHistory& h = m_->histories.back();
+  h.radial = true;
+  h.centre = centre;
+  h.axis = axis;
 }
 void Simulation::add_wall(std::array<double, 3> point, std::array<double, 3> normal,
                           std::array<double, 3> velocity, double stiffness) {
@@ -156,10 +188,7 @@ double Simulation::time() const { return m_->time(); }
 std::int64_t Simulation::last_good_step() const { return m_->last_good_step(); }
 
 std::array<double, 3> Simulation::group_force(const std::string& group) const {
-  const auto& g = m_->group_names;
-  const auto it = std::find(g.begin(), g.end(), group);
-  STRATA_CHECK(it != g.end(), Input, "no group named '{}'", group);
-  return m_->group_force(1u << (it - g.begin()));
+  return m_->group_force(existing_group(*m_, group));
 }
 double Simulation::kinetic_energy() const { return m_->kinetic_energy(); }
 double Simulation::bond_energy() const { return m_->bond_energy(); }
@@ -180,7 +209,6 @@ std::vector<std::array<double, 3>> Simulation::velocities() const { return m_->v
 std::vector<std::array<double, 3>> Simulation::displacements() const { return m_->displacements(); }
 std::vector<double> Simulation::radii() const { return m_->radii(); }
 std::vector<std::uint32_t> Simulation::ids() const { return m_->ids(); }
-std::vector<std::uint32_t> Simulation::group_bits() const { return m_->group_bits(); }
 std::vector<float> Simulation::damage() const { return m_->damage(); }
 std::vector<PairView> Simulation::bonds() const { return m_->pairs(true); }
 std::vector<PairView> Simulation::contacts() const { return m_->pairs(false); }

@@ -8,7 +8,9 @@
 #include <strata/core/error.hpp>
 #include <strata/core/state_io.hpp>
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -28,8 +30,9 @@ using detail::StateRefs;
 using detail::Wall;
 
 // Version of the layout below; a change of layout must raise it. Format 1 had no pair-law
-// names (all its materials use solid_lattice); it is still read.
-constexpr std::int64_t kFormat = 2;
+// names (all its materials use solid_lattice); formats 1 and 2 stored groups as one bit per
+// group (at most 32) instead of group sets, and had no radial loads. All are still read.
+constexpr std::int64_t kFormat = 3;
 constexpr std::int64_t kOldestFormat = 1;
 
 // How a member of type T is stored: bool as uint8, int and enums as int64.
@@ -203,9 +206,29 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
     }
   }
   io.strings("groups", m.group_names);
-  io.table("boundary_specs", m.bc_specs, [](auto&& col) {
+  // Formats 1 and 2 kept a bit mask per particle and per boundary spec; group_bits_to_sets()
+  // turns them into sets after loading.
+  const bool group_bits = !io.has("group_sets/offsets");
+  if (!group_bits) {
+    std::vector<std::uint32_t> off{0}, members;
+    for (const auto& set : m.group_sets) {
+      members.insert(members.end(), set.begin(), set.end());
+      off.push_back(static_cast<std::uint32_t>(members.size()));
+    }
+    io.vec("group_sets/offsets", off);
+    io.vec("group_sets/members", members);
+    if constexpr (Io::kLoading) {
+      STRATA_CHECK(!off.empty() && off.front() == 0 && off.back() == members.size() &&
+                       std::is_sorted(off.begin(), off.end()),
+                   IO, "damaged state: group set offsets");
+      m.group_sets.clear();
+      for (std::size_t k = 0; k + 1 < off.size(); ++k)
+        m.group_sets.emplace_back(members.begin() + off[k], members.begin() + off[k + 1]);
+    }
+  }
+  io.table("boundary_specs", m.bc_specs, [&](auto&& col) {
     col("kind", &BcSpec::kind);
-    col("mask", &BcSpec::mask);
+    col(group_bits ? "mask" : "group", &BcSpec::group);
     col("axes", &BcSpec::axes);
     col("value", &BcSpec::value);
     col("every", &BcSpec::every);
@@ -231,6 +254,17 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
       for (std::size_t k = 0; k < fh.f.size(); ++k)
         for (int a = 0; a < 3; ++a) fh.f[k][a] = flat[3 * k + a];
     }
+    if (io.has(p + "/radial")) {  // from format 3
+      io.scalar(p + "/radial", fh.radial);
+      std::vector<double> centre(fh.centre.begin(), fh.centre.end()), axis(fh.axis.begin(), fh.axis.end());
+      io.vec(p + "/centre", centre);
+      io.vec(p + "/axis", axis);
+      if constexpr (Io::kLoading) {
+        STRATA_CHECK(centre.size() == 3 && axis.size() == 3, IO, "damaged state: 'dem/{}' centre or axis", p);
+        std::copy(centre.begin(), centre.end(), fh.centre.begin());
+        std::copy(axis.begin(), axis.end(), fh.axis.begin());
+      }
+    }
   }
   io.table("walls", m.walls, [](auto&& col) {
     col("point", &Wall::p);  // moves with the wall's velocity every step
@@ -250,7 +284,7 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
   io.vec("particles/inverse_mass", *s.im);
   io.vec("particles/radius", *s.rad);
   io.vec("particles/id", *s.id);
-  io.vec("particles/group_bits", *s.grp);
+  io.vec(group_bits ? "particles/group_bits" : "particles/group_set", *s.grp);
   io.vec("particles/material", *s.mat);
   io.vec("particles/flags", *s.flags);
 
@@ -305,6 +339,30 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
   io.scalar("run/contact_detection_on", *s.contacts_on);
 }
 
+// Formats 1 and 2: a particle's entry was a bit mask of its groups and a boundary spec's the
+// bit of its group; both become indices (into group sets and group names).
+void group_bits_to_sets(ModelBase& m, const StateRefs& s) {
+  for (BcSpec& b : m.bc_specs) {
+    STRATA_CHECK(b.group != 0 && (b.group & (b.group - 1)) == 0, IO, "damaged state: boundary group mask {}",
+                 b.group);
+    b.group = static_cast<std::uint32_t>(std::countr_zero(b.group));
+  }
+  m.group_sets.assign(1, {});
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> seen;  // bit mask -> set
+  for (std::uint32_t& g : *s.grp) {
+    const auto it = std::find_if(seen.begin(), seen.end(), [&](const auto& e) { return e.first == g; });
+    if (it != seen.end()) {
+      g = it->second;
+      continue;
+    }
+    std::uint32_t set = 0;
+    for (std::uint32_t bit = 0; bit < 32; ++bit)
+      if (g >> bit & 1u) set = m.set_with(set, bit);
+    seen.emplace_back(g, set);
+    g = set;
+  }
+}
+
 // A loaded state must be self-consistent before any step indexes with it.
 void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
   const int kns = s.dim == 2 ? 1 : 3;
@@ -319,7 +377,15 @@ void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
   }
   same(s.im->size(), "particles/inverse_mass", n);
   same(s.rad->size(), "particles/radius", n);
-  same(s.grp->size(), "particles/group_bits", n);
+  same(s.grp->size(), "particles/group_set", n);
+  for (const auto& set : m.group_sets)
+    for (const auto g : set)
+      STRATA_CHECK(g < m.group_names.size(), IO, "damaged state: group {} of {}", g, m.group_names.size());
+  for (const auto k : *s.grp)
+    STRATA_CHECK(k < m.group_sets.size(), IO, "damaged state: group set {} of {}", k, m.group_sets.size());
+  for (const BcSpec& b : m.bc_specs)
+    STRATA_CHECK(b.group < m.group_names.size(), IO, "damaged state: boundary of group {} of {}", b.group,
+                 m.group_names.size());
   same(s.mat->size(), "particles/material", n);
   same(s.flags->size(), "particles/flags", n);
   std::vector<char> seen(n, 0);
@@ -429,6 +495,7 @@ StateRefs Model<D>::state_refs() {
 template <int D>
 void Model<D>::state_loaded() {
   refresh_laws();
+  set_load_directions();  // derived from the start positions
   inv_cache.clear();
   sorted = true;
   plan_dirty = true;
@@ -474,6 +541,7 @@ void Simulation::load_state(const StateReader& in) {
   const StateRefs s = fresh->state_refs();
   Loader loader{in};
   describe(loader, *fresh, s);
+  if (!in.has("dem/group_sets/offsets")) group_bits_to_sets(*fresh, s);
   check_loaded(*fresh, s, static_cast<std::size_t>(count));
   *s.initialised = true;
   fresh->state_loaded();

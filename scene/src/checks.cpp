@@ -212,6 +212,7 @@ class KeyChecks {
       if (b.str("type") == "step_displacement") need(boundary_spec, b, "increment", "type");
     }
 
+    const TableSpec& load_spec = *find_table("load");
     for (const Table& l : scene.tables("load")) {
       check_reference(l, "group", group_what, groups);
       const auto& times = l.reals("times");
@@ -223,10 +224,34 @@ class KeyChecks {
           break;
         }
       }
-      if (l.real_table("forces").size() != times.size())
-        report(l.where("forces"),
-               fmt::format("forces has {} rows but times has {} entries: give one force per time",
-                           l.real_table("forces").size(), times.size()));
+      const bool radial = l.str("type") == "radial";
+      if (!radial) {
+        need(load_spec, l, "forces", "type");
+        if (l.has("forces") && l.real_table("forces").size() != times.size())
+          report(l.where("forces"),
+                 fmt::format("forces has {} rows but times has {} entries: give one force per time",
+                             l.real_table("forces").size(), times.size()));
+        for (const char* key : {"magnitudes", "center", "axis"})
+          if (l.given(key))
+            report(l.where(key), fmt::format("{} is for type = \"radial\"; a force_history load gives "
+                                             "its force vectors in `forces`",
+                                             key));
+        continue;
+      }
+      need(load_spec, l, "magnitudes", "type");
+      if (l.has("magnitudes") && l.reals("magnitudes").size() != times.size())
+        report(l.where("magnitudes"),
+               fmt::format("magnitudes has {} entries but times has {}: give one magnitude per time",
+                           l.reals("magnitudes").size(), times.size()));
+      if (l.given("forces"))
+        report(l.where("forces"), "forces is for type = \"force_history\"; a radial load gives `magnitudes`");
+      if (l.given("axis")) {
+        const auto& axis = l.reals("axis");
+        if (dim == 2)
+          report(l.where("axis"), "axis is for 3D scenes: in 2D the radial load lies in the plane");
+        else if (std::all_of(axis.begin(), axis.end(), [](double x) { return x == 0.0; }))
+          report(l.where("axis"), "axis must not be zero: give the borehole's direction (or leave it out)");
+      }
     }
 
     for (const Table& w : scene.tables("wall")) {

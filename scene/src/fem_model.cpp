@@ -173,6 +173,40 @@ std::map<std::string, std::vector<std::uint32_t>> region_nodes_of(const preproce
   return out;
 }
 
+/// A radial [[load]] on FEM nodes: each node pushed along the unit vector from the load's
+/// centre (default: the nodes' mean position) to the node, its component along `axis` removed.
+void radial_fem_load(const LoadTable& l, const std::vector<std::uint32_t>& nodes, double share,
+                     const preprocess::SimplexMesh& mesh, fem::Solver& solver) {
+  const int dim = mesh.dim;
+  std::array<double, 3> centre = vec3(l.center);
+  if (l.center->empty()) {
+    centre = {0, 0, 0};
+    for (auto n : nodes)
+      for (int a = 0; a < 3; ++a) centre[a] += mesh.node(n)[a] / double(nodes.size());
+  }
+  const auto axis = vec3(l.axis);
+  const double axis2 = axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2];
+  for (auto n : nodes) {
+    std::array<double, 3> r{};
+    double along = 0;
+    for (int a = 0; a < dim; ++a) {
+      r[a] = mesh.node(n)[a] - centre[a];
+      along += r[a] * axis[a];
+    }
+    if (axis2 > 0)
+      for (int a = 0; a < dim; ++a) r[a] -= along / axis2 * axis[a];
+    const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+    if (!(len > 0)) continue;  // a node at the centre has no direction
+    for (int a = 0; a < dim; ++a) {
+      HistoryComponent h;
+      h.t = l.times;
+      for (double f : l.magnitudes.value) h.f.push_back(share * f * r[a] / len);
+      if (std::all_of(h.f.begin(), h.f.end(), [](double f) { return f == 0; })) continue;
+      solver.add_load(std::size_t(n) * std::size_t(dim) + std::size_t(a), h);
+    }
+  }
+}
+
 /// Applies [[group]], [[boundary]] and [[load]] entries to FEM nodes. `region_nodes` maps a
 /// region name to its nodes.
 void fem_conditions(const Scene& sc, const preprocess::SimplexMesh& mesh,
@@ -218,6 +252,10 @@ void fem_conditions(const Scene& sc, const preprocess::SimplexMesh& mesh,
     const auto it = m.fem_groups.find(l.group);
     if (it == m.fem_groups.end()) continue;
     const double share = l.per == LoadPer::Group ? 1.0 / double(it->second.size()) : 1.0;
+    if (l.type == LoadType::Radial) {
+      radial_fem_load(l, it->second, share, mesh, solver);
+      continue;
+    }
     for (int a = 0; a < dim; ++a) {
       HistoryComponent h;
       h.t = l.times;

@@ -56,7 +56,7 @@ io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std:
     pc.point_data.push_back(std::move(f));
   }
   if (wants(fields, "group")) {
-    const auto g = sim.group_bits();
+    const auto g = sim.last_group();
     pc.point_data.push_back({"group", 1, {g.begin(), g.end()}, io::ArrayType::Int64});
   }
   if (wants(fields, "damage")) {
@@ -75,8 +75,8 @@ void FrameSelection::find_surface(const dem::Simulation& sim) {
   for (std::size_t id = 0; id < count.size(); ++id) surface_by_id[id] = count[id] < inside;
 }
 
-bool FrameSelection::in_groups_and_slice(std::uint32_t group_bits, const double* x) const {
-  if (group_mask != 0 && (group_bits & group_mask) == 0) return false;
+bool FrameSelection::in_groups_and_slice(bool in_group, const double* x) const {
+  if (!groups.empty() && !in_group) return false;
   if (slice_thickness > 0) {
     double dist = 0;
     for (int a = 0; a < 3; ++a) dist += (x[a] - slice_point[a]) * slice_normal[a];
@@ -89,12 +89,12 @@ io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud
                                 const FrameSelection& sel) {
   if (sel.keeps_all()) return all;
   const auto ids = sim.ids();
-  const auto groups = sim.group_bits();
+  const auto in_group = sel.groups.empty() ? std::vector<std::uint8_t>(all.size(), 1) : sim.in_groups(sel.groups);
   std::vector<std::size_t> keep;
   if (sel.particles != FrameSelection::Particles::None) {
     for (std::size_t i = 0; i < all.size(); ++i) {
       if (sel.particles == FrameSelection::Particles::Surface && !sel.surface_by_id[ids[i]]) continue;
-      if (!sel.in_groups_and_slice(groups[i], &all.xyz[3 * i])) continue;
+      if (!sel.in_groups_and_slice(in_group[i], &all.xyz[3 * i])) continue;
       keep.push_back(i);
     }
   }
@@ -121,13 +121,14 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
   io::Array fn{"Fn", 1, {}, io::ArrayType::Float64}, fs{"Fs", 1, {}, io::ArrayType::Float64};
   const auto which = sel.bonds;
   const auto bonds = which == FrameSelection::Bonds::None ? std::vector<dem::PairView>{} : sim.bonds();
-  const bool filtered = sel.group_mask != 0 || sel.slice_thickness > 0;
+  const bool filtered = !sel.groups.empty() || sel.slice_thickness > 0;
   const auto pos = filtered || sel.contacts ? sim.positions() : std::vector<std::array<double, 3>>{};
-  const auto groups = filtered || sel.contacts ? sim.group_bits() : std::vector<std::uint32_t>{};
+  const auto in_group = filtered && !sel.groups.empty() ? sim.in_groups(sel.groups)
+                                                        : std::vector<std::uint8_t>(pos.size(), 1);
   // A pair is written when both its particles pass the group and slice selection.
   auto selected = [&](const dem::PairView& p) {
-    return !filtered || (sel.in_groups_and_slice(groups[p.i], pos[p.i].data()) &&
-                         sel.in_groups_and_slice(groups[p.j], pos[p.j].data()));
+    return !filtered || (sel.in_groups_and_slice(in_group[p.i], pos[p.i].data()) &&
+                         sel.in_groups_and_slice(in_group[p.j], pos[p.j].data()));
   };
   for (const auto& b : bonds) {
     if (b.kind == dem::PairKind::Intact && which == FrameSelection::Bonds::Broken) continue;

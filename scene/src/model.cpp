@@ -547,13 +547,28 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
   }
   for (const auto& l : sc.loads) {
     if (!m.groups.count(l.group)) continue;  // FEM nodes only (fem_model.cpp)
+    const double sharers = l.per == LoadPer::Group ? double(m.groups.at(l.group)) : 1.0;
+    if (l.type == LoadType::Radial) {
+      std::vector<double> magnitudes = l.magnitudes;
+      for (double& f : magnitudes) f /= sharers;
+      std::array<double, 3> centre = vec3(l.center);
+      if (l.center->empty()) {  // the group's mean position (not running yet: positions by id)
+        const auto pos = sim.positions();
+        const auto ids = sim.ids();
+        std::vector<std::size_t> at(ids.size());
+        for (std::size_t i = 0; i < ids.size(); ++i) at[ids[i]] = i;
+        const auto members = sim.group_members(l.group);
+        centre = {0, 0, 0};
+        for (const auto id : members)
+          for (int a = 0; a < 3; ++a) centre[a] += pos[at[id]][a] / double(members.size());
+      }
+      sim.radial_force_history(l.group, l.times, std::move(magnitudes), centre, vec3(l.axis));
+      continue;
+    }
     std::vector<std::array<double, 3>> forces;
     for (const auto& row : l.forces.value) forces.push_back(vec3(row));
-    if (l.per == LoadPer::Group) {
-      const double n = double(m.groups.at(l.group));
-      for (auto& f : forces)
-        for (double& c : f) c /= n;
-    }
+    for (auto& f : forces)
+      for (double& c : f) c /= sharers;
     sim.force_history(l.group, l.times, std::move(forces));
   }
   for (const auto& w : sc.walls) {

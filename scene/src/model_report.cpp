@@ -180,26 +180,31 @@ io::PointCloud description_particles(const ModelDescription& d, const std::vecto
     radius.values.push_back(d.regions[k].diameter / 2);
     id.values.push_back(double(i));
   }
-  // Group bits: bit b for the b-th group name, found by binary search in the ascending ids.
-  std::vector<std::uint32_t> bits(ids.size(), 0);
+  // The last-made group of each particle (as dem::Simulation::last_group numbers groups),
+  // members found by binary search in the ascending ids.
+  std::vector<double> last(ids.size(), -1.0);
   std::vector<std::string> names;
   for (const auto& g : d.groups) {
     auto it = std::find(names.begin(), names.end(), g.name);
     if (it == names.end()) it = names.insert(names.end(), g.name);
-    const std::uint32_t bit = 1u << (it - names.begin());
+    const auto index = double(it - names.begin());
+    auto mark = [&](auto at) {
+      double& l = last[std::size_t(at - ids.begin())];
+      l = std::max(l, index);
+    };
     if (g.region >= 0) {
       const auto& s = d.sites[std::size_t(g.region)];
       const auto lo = std::lower_bound(ids.begin(), ids.end(), s.first_id);
       const auto hi = std::lower_bound(ids.begin(), ids.end(), s.first_id + std::uint32_t(g.count));
-      for (auto at = lo; at != hi; ++at) bits[std::size_t(at - ids.begin())] |= bit;
+      for (auto at = lo; at != hi; ++at) mark(at);
     } else {
       for (std::uint32_t member : g.ids) {
         const auto at = std::lower_bound(ids.begin(), ids.end(), member);
-        if (at != ids.end() && *at == member) bits[std::size_t(at - ids.begin())] |= bit;
+        if (at != ids.end() && *at == member) mark(at);
       }
     }
   }
-  io::Array group{"group", 1, {bits.begin(), bits.end()}, io::ArrayType::Int64};
+  io::Array group{"group", 1, std::move(last), io::ArrayType::Int64};
   pc.point_data = {std::move(radius), std::move(id), std::move(group)};
   return pc;
 }

@@ -253,7 +253,7 @@ class RunOutput {
     for (const auto& g : out.groups.value) {
       if (!m.groups.count(g))
         out.groups.fail(fmt::format("no [[group]] or [[region]] of particles is called '{}'", g));
-      selection_.group_mask |= 1u << m.sim().group_bit(g);
+      selection_.groups.push_back(g);
     }
     selection_.slice_thickness = out.slice_thickness;
     for (std::size_t a = 0; a < 3; ++a) {

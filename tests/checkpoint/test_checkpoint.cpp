@@ -78,6 +78,16 @@ Simulation build_3d() {
   sim.fix("bottom", kZ);
   sim.step_displacement("top", {0, 0, -2e-6}, 7);
   sim.force_history("bottom", {0.0, 1e-6}, {{0, 0, 0}, {50.0, 0, 0}});
+  // a radial load normal to a vertical borehole through the block's middle, on the spheres
+  // near it, and forty groups of one sphere each (more groups than a bit mask would hold)
+  std::vector<std::uint32_t> near_axis;
+  for (std::uint32_t i = 0; i < lat.size(); ++i)
+    if (std::hypot(lat.x[i][0] - 3e-3, lat.x[i][1] - 3e-3) < 1.6e-3 && lat.x[i][2] > 1e-3) near_axis.push_back(i);
+  EXPECT_GE(near_axis.size(), 8u);
+  sim.add_to_group(near_axis, "borehole");
+  sim.radial_force_history("borehole", {0.0, 2e-6}, {0.0, 80.0}, {3e-3, 3e-3, 0}, {0, 0, 1});
+  for (std::uint32_t k = 0; k < 40; ++k) sim.add_to_group({k * 3}, "one_" + std::to_string(k));
+  sim.fix("one_39", kX);
   sim.add_wall({xmax + lat.radius * 0.999, 0, 0}, {-1, 0, 0}, {-2.0, 0, 0}, 1e8);
   sim.bond_touching_pairs();
   sim.initialise();
@@ -244,6 +254,70 @@ TEST(Checkpoint, RestartThroughHdf5IsBitIdentical2D) {
 TEST(Checkpoint, RestartThroughHdf5IsBitIdentical3D) {
   if (!STRATA_WITH_HDF5) GTEST_SKIP() << "built without HDF5";
   restart_equality(build_3d, 147, via_hdf5, false);
+}
+
+namespace {
+/// Copies array `name`, whatever its element type, from one state to another.
+void copy_array(const MemoryState& from, MemoryState& to, const std::string& name) {
+  for (const StateType t : {StateType::UInt8, StateType::UInt32, StateType::Int64, StateType::Float64}) {
+    std::size_t n = 0;
+    try {
+      n = from.count(name, t);
+    } catch (const Error&) {
+      continue;  // stored with another type
+    }
+    std::vector<unsigned char> bytes(n * MemoryState::element_size(t) + 1);
+    from.get_array(name, t, bytes.data(), n);
+    to.put_array(name, t, bytes.data(), n);
+    return;
+  }
+  ADD_FAILURE() << "no array " << name;
+}
+}  // namespace
+
+// Checkpoints of formats 1 and 2 kept a bit mask of groups per particle and per boundary
+// condition (at most 32 groups). Such a state, made here from a format-3 one, loads into the
+// same model (groups as sets) and continues along the same bits.
+TEST(Checkpoint, StatesWithGroupBitMasksStillLoad) {
+  par::set_threads(1);
+  Simulation a = build_2d();
+  a.run(100);
+  MemoryState now;
+  a.save_state(now);
+  ASSERT_TRUE(now.has("dem/group_sets/offsets"));
+  const auto off = now.get<std::uint32_t>("dem/group_sets/offsets");
+  const auto members = now.get<std::uint32_t>("dem/group_sets/members");
+  MemoryState old;
+  for (const std::string& name : now.names()) {
+    if (name.rfind("dem/group_sets/", 0) == 0 || name.find("/radial") != std::string::npos ||
+        name.find("/centre") != std::string::npos || name.find("/axis") != std::string::npos)
+      continue;
+    if (name == "dem/format") {
+      old.put_scalar<std::int64_t>(name, 2);
+    } else if (name == "dem/particles/group_set") {
+      std::vector<std::uint32_t> bits;
+      for (const auto set : now.get<std::uint32_t>(name)) {
+        std::uint32_t mask = 0;
+        for (auto k = off[set]; k < off[set + 1]; ++k) mask |= 1u << members[k];
+        bits.push_back(mask);
+      }
+      old.put("dem/particles/group_bits", bits);
+    } else if (name == "dem/boundary_specs/group") {
+      std::vector<std::uint32_t> masks;
+      for (const auto g : now.get<std::uint32_t>(name)) masks.push_back(1u << g);
+      old.put("dem/boundary_specs/mask", masks);
+    } else {
+      copy_array(now, old, name);
+    }
+  }
+  Simulation b = build_2d();
+  b.load_state(old);
+  EXPECT_EQ(b.group_members("top"), a.group_members("top"));
+  EXPECT_EQ(b.group_members("bottom"), a.group_members("bottom"));
+  a.run(200);
+  b.run(200);
+  expect_same(outcome(b), outcome(a));
+  par::set_threads(0);
 }
 
 // A checkpoint needs no rebuilt model: an empty Simulation of the same dimension takes it.

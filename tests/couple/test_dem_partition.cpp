@@ -147,7 +147,7 @@ double dem_dem_chain_error(int eta) {
   auto chain = [&](int first, int last, bool load, double step) {
     dem::Simulation s(2, dem::Settings{.dt = step, .contact_detection = false});
     const int mi = s.add_material(m);
-    for (int i = first; i <= last; ++i) s.add_particle({i * d, 0, 0}, d / 2, mi, 0, mass);
+    for (int i = first; i <= last; ++i) s.add_particle({i * d, 0, 0}, d / 2, mi, mass);
     s.bond_touching_pairs();
     std::vector<std::uint32_t> all;
     for (int i = 0; i <= last - first; ++i) all.push_back(static_cast<std::uint32_t>(i));

@@ -180,7 +180,7 @@ void check_bounds_against_dense(int dim, unsigned seed) {
     for (int a = 0; a < dim; ++a) p[a] += 0.04 * kC1d * u(rng);  // ±4 % perturbation
     const double ms = c1_mass() * um(rng);                       // unequal masses
     mass_by_id.push_back(ms);
-    sim.add_particle(p, lat.radius, mat, 0, ms);
+    sim.add_particle(p, lat.radius, mat, ms);
   }
   sim.bond_touching_pairs(0.15);  // bonds between the perturbed neighbours
   sim.initialise();

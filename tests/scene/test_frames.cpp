@@ -89,11 +89,11 @@ TEST_F(IoTest, ContactsAreLineCellsWithState4) {
   EXPECT_EQ(scene::bond_frame(sim, sel).size(), 0u);
   sel.contacts = true;
   dem::Simulation copy = three_disks();
-  sel.group_mask = 1u << copy.group_bit("lonely");
+  sel.groups = {"lonely"};
   EXPECT_EQ(scene::bond_frame(copy, sel).size(), 0u);
-  sel.group_mask = 1u << copy.group_bit("pair");
+  sel.groups = {"pair"};
   EXPECT_EQ(scene::bond_frame(copy, sel).size(), 1u);
-  sel.group_mask = 0;
+  sel.groups.clear();
   sel.slice_thickness = 0.2e-3;  // a slice x = 0 ± 0.1 mm holds disk 0 only
   sel.slice_point = {0, 0, 0};
   sel.slice_normal = {1, 0, 0};
@@ -297,12 +297,12 @@ TEST_F(IoTest, GroupSelectionFiltersBrokenBonds) {
   p.place(0.1 * DrivenPair::r);
   scene::FrameSelection sel;
   EXPECT_EQ(p.drawn(sel), int(io::BondState::BrokenTension));
-  sel.group_mask = 1u << p.sim.group_bit("right");
+  sel.groups = {"right"};
   EXPECT_EQ(p.drawn(sel), -1) << "the left disk is not in the selection";
   p.sim.add_to_group({0, 1}, "both");
-  sel.group_mask = 1u << p.sim.group_bit("both");
+  sel.groups = {"both"};
   EXPECT_EQ(p.drawn(sel), int(io::BondState::BrokenTension));
-  sel.group_mask = 0;
+  sel.groups.clear();
   sel.slice_thickness = 0.5 * DrivenPair::r;  // a slice normal to x through the left disk only
   sel.slice_normal = {1, 0, 0};
   EXPECT_EQ(p.drawn(sel), -1);

@@ -229,7 +229,7 @@ stress_strain = true
   EXPECT_EQ(platen.every.value, 400);
 
   const auto& pulse = s.loads[0];
-  EXPECT_EQ(pulse.type.value, "force_history");
+  EXPECT_EQ(pulse.type.value, strata::scene::LoadType::ForceHistory);
   EXPECT_EQ(pulse.times.value, (std::vector<double>{0.0, 1e-5, 2.5e-5}));
   EXPECT_EQ(pulse.forces.value[1], (std::vector<double>{0.0, -1.07e5}));
   EXPECT_EQ(to_string(pulse.per), "group");
@@ -510,6 +510,20 @@ TEST(SceneErrors, ShapeAndTypeDependentKeys) {
       error_of(kBase +
                "[[load]]\ngroup = \"top\"\ntimes = [0, 2e-5, 1e-5]\nforces = [[0, 1], [0, 2], [0, 3]]\n"),
       "scene.toml:34:9: times must increase: times[2] = 1e-05 is not after times[1] = 2e-05");
+  // radial loads: magnitudes, not forces; one per time; no axis in 2D
+  const std::string radial = kBase + "[[load]]\ngroup = \"top\"\ntype = \"radial\"\ntimes = [0, 1e-5]\n";
+  EXPECT_EQ(error_of(radial),
+            "scene.toml:34:8: [[load]] at index 0 needs 'magnitudes' for type = \"radial\" (one magnitude per "
+            "time, positive away from `center`)");
+  EXPECT_EQ(error_of(radial + "magnitudes = [0, 1, 2]\n"),
+            "scene.toml:36:14: magnitudes has 3 entries but times has 2: give one magnitude per time");
+  EXPECT_EQ(error_of(radial + "magnitudes = [0, 1]\naxis = [0, 1]\n"),
+            "scene.toml:37:8: axis is for 3D scenes: in 2D the radial load lies in the plane");
+  EXPECT_EQ(error_of(radial + "magnitudes = [0, 1]\nforces = [[0, 1], [0, 1]]\n"),
+            "scene.toml:37:10: forces is for type = \"force_history\"; a radial load gives `magnitudes`");
+  EXPECT_EQ(error_of(kBase + "[[load]]\ngroup = \"top\"\ntimes = [0]\nforces = [[0, 1]]\ncenter = [0, 0]\n"),
+            "scene.toml:36:10: center is for type = \"radial\"; a force_history load gives its force "
+            "vectors in `forces`");
 }
 
 // ---- overrides -------------------------------------------------------------------------------
@@ -669,4 +683,56 @@ TEST(SceneBoundaries, PlatensSteppingEveryFewStepsAreNoBlowUp) {
   EXPECT_EQ(m.step_count(), 1000);
   // Two steps of the top row, 3.8e-9 m in all: the block is strained, and stores energy.
   EXPECT_GT(m.sim().bond_energy(), 0.0);
+}
+
+// ---- loads -----------------------------------------------------------------------------------
+
+// A radial load shared by a group (per = "group"): at the first step the lattice is at rest
+// and unstrained, so each particle's velocity is its applied force times dt/m: every force
+// points away from the centre (by default the group's mean position), and their magnitudes
+// add up to the load's magnitude, as the blast load on the rim of a hole is shared.
+TEST(SceneLoads, RadialLoadSharedByAGroupPushesAwayFromTheCentre) {
+  for (const std::string center : {"", "center = [0.0151, 0.0148]\n"}) {
+    const std::string text = edit(
+        "[solver]", "[[group]]\nname = \"rim\"\nselect = \"box\"\nbox_min = [0.012, 0.012]\n"
+                    "box_max = [0.018, 0.018]\n\n[[load]]\ngroup = \"rim\"\ntype = \"radial\"\n"
+                    "times = [0, 1]\nmagnitudes = [2e5, 2e5]\nper = \"group\"\n" +
+                        center + "\n[solver]");
+    const Scene sc = strata::scene::parse(text, "scene.toml", {});
+    strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
+    const auto& sim = m.sim();
+    const auto members = sim.group_members("rim");
+    ASSERT_GT(members.size(), 20u);
+    const auto x0 = sim.positions();
+    const auto ids = sim.ids();
+    std::vector<std::size_t> where(ids.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = i;
+    std::array<double, 2> c{0.0151, 0.0148};
+    if (center.empty()) {
+      c = {0, 0};
+      for (auto id : members)
+        for (int a = 0; a < 2; ++a) c[a] += x0[where[id]][a] / double(members.size());
+    }
+    m.advance(1);
+    const auto v = m.sim().velocities();
+    const double mass = 2650 * std::sqrt(3.0) / 2 * 1e-6;  // ρ·(√3/2)·d²
+    double total = 0;
+    std::size_t at_centre = 0;
+    for (auto id : members) {
+      const std::size_t i = where[id];
+      const double rx = x0[i][0] - c[0], ry = x0[i][1] - c[1], r = std::hypot(rx, ry);
+      const double fx = v[i][0] * mass / m.dt, fy = v[i][1] * mass / m.dt;
+      const double f = std::hypot(fx, fy);
+      total += f;
+      if (r < 1e-12) {  // a particle at the centre has no direction, and no force
+        ++at_centre;
+        EXPECT_EQ(f, 0.0);
+        continue;
+      }
+      EXPECT_NEAR(fx * ry - fy * rx, 0.0, 1e-9 * f * r) << "force along the radius, particle " << id;
+      EXPECT_GT(fx * rx + fy * ry, 0.0) << "outward, particle " << id;
+    }
+    const double n = double(members.size());
+    EXPECT_NEAR(total, 2e5 * (n - double(at_centre)) / n, 1e-9 * 2e5);
+  }
 }

@@ -5,6 +5,7 @@
 namespace strata::scene::tables {
 namespace {
 const Word<LoadPer> kPer[] = {{"particle", LoadPer::Particle}, {"group", LoadPer::Group}};
+const Word<LoadType> kType[] = {{"force_history", LoadType::ForceHistory}, {"radial", LoadType::Radial}};
 }  // namespace
 
 TableSpec load_spec() {
@@ -12,31 +13,47 @@ TableSpec load_spec() {
       "load",
       true,
       false,
-      "A force history applied to a group, e.g. the blast pulse on the rim of a hole (the double-hole "
-      "plate of Zhao et al. 2021); "
-      "the force is interpolated linearly between the listed times.",
+      "A force history applied to a group: a force vector, or a radial push away from a centre such as "
+      "the blast pulse on the rim of a hole (the double-hole plate of Zhao et al. 2021). The force is "
+      "interpolated linearly between the listed times and held after the last.",
       {
           K("group", String)
               .required()
               .doc("The [[group]] it applies to, by name (a [[region]] name stands for all its particles)."),
           K("type", Choice)
-              .choices({"force_history"})
+              .choices(words(kType))
               .def(R"("force_history")")
-              .doc("force_history: forces given at a list of times."),
+              .doc("force_history: force vectors given at a list of times (`forces`); radial: magnitudes "
+                   "(`magnitudes`), each particle or FEM node pushed along the unit vector from `center` "
+                   "to its start position (a pressure on the wall of a hole or borehole)."),
           K("times", RealList, "s")
               .required()
               .ge(0)
               .length(1, 0)
               .doc("Times of the force values, increasing."),
           K("forces", RealTable, "N")
-              .required()
               .per_axis()
-              .doc("One force per time, each with one component per axis, as [[fx, fy], ...]."),
+              .doc("One force per time, each with one component per axis, as [[fx, fy], ...]; required "
+                   "when type = \"force_history\"."),
+          K("magnitudes", RealList, "N")
+              .doc("One magnitude per time, positive away from `center`; required when type = "
+                   "\"radial\"."),
+          K("center", RealList, "m")
+              .per_axis()
+              .doc("The point the radial load pushes away from (type = \"radial\"), e.g. the centre of "
+                   "the hole; default: the mean start position of the group's particles (or FEM nodes), "
+                   "which is the hole's centre for a group on the whole rim."),
+          K("axis", RealList)
+              .per_axis()
+              .doc("3D, type = \"radial\": the axis of a borehole; the push is normal to it (its "
+                   "component along the axis removed). Without it the push is radial from the point "
+                   "(a spherical charge)."),
           K("per", Choice)
               .choices(words(kPer))
               .def(R"("particle")")
-              .doc("particle: each particle of the group gets the force; group: the force is shared "
-                   "equally by the group's particles."),
+              .doc("particle: each particle of the group gets the force; group: the force (for radial: "
+                   "the magnitude) is shared equally by the group's particles, as the blast load of Zhao "
+                   "et al. 2021 is shared by the particles on the rim of the hole."),
       }};
 }
 
@@ -45,9 +62,12 @@ LoadTable read_load(const Table& t) {
   LoadTable l;
   l.pos = t.where();
   read("group", l.group);
-  read("type", l.type);
+  read("type", l.type, kType);
   read("times", l.times);
   read("forces", l.forces);
+  read("magnitudes", l.magnitudes);
+  read("center", l.center);
+  read("axis", l.axis);
   read("per", l.per, kPer);
   read.done();
   return l;
@@ -57,4 +77,5 @@ LoadTable read_load(const Table& t) {
 
 namespace strata::scene {
 std::string_view to_string(LoadPer v) { return tables::word_of(tables::kPer, v); }
+std::string_view to_string(LoadType v) { return tables::word_of(tables::kType, v); }
 }  // namespace strata::scene

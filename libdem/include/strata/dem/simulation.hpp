@@ -105,10 +105,9 @@ class Simulation {
   int add_material(const Material& m);
   /// Reserves space for n particles (avoids growth peaks in memory while building).
   void reserve(std::size_t n);
-  /// Adds a particle at rest; returns its id. mass <= 0: density × cell measure (2D:
-  /// (√3/2)·d², the hex cell area; 3D: d³/√2, the close-packed cell volume).
-  std::size_t add_particle(std::array<double, 3> x, double radius, int material, std::uint32_t groups = 0,
-                           double mass = 0);
+  /// Adds a particle at rest, in no group; returns its id. mass <= 0: density × cell
+  /// measure (2D: (√3/2)·d², the hex cell area; 3D: d³/√2, the close-packed cell volume).
+  std::size_t add_particle(std::array<double, 3> x, double radius, int material, double mass = 0);
   std::size_t particle_count() const;
   /// Bonds every pair with |xi - xj| <= (ri + rj)(1 + tolerance). O(N) with a cell grid.
   void bond_touching_pairs(double tolerance = 1e-6);
@@ -126,13 +125,18 @@ class Simulation {
   /// Sets the velocity of particle `id` (initial conditions).
   void set_velocity(std::size_t id, std::array<double, 3> v);
 
-  // ---- groups (at most 32 names) ------------------------------------------------------
-  /// Bit index of a named group, created on first use.
-  int group_bit(const std::string& name);
+  // ---- groups (any number; a particle may be in several) -------------------------------
+  /// Index of a named group, created on first use (groups are numbered in that order).
+  int group_index(const std::string& name);
   /// Adds the particles with these ids to the group.
   void add_to_group(const std::vector<std::uint32_t>& ids, const std::string& name);
   /// Ids of the particles in a group, ascending.
   std::vector<std::uint32_t> group_members(const std::string& name) const;
+  /// Per particle (internal order): 1 when it belongs to one of the named groups.
+  std::vector<std::uint8_t> in_groups(const std::vector<std::string>& names) const;
+  /// Per particle (internal order): the group_index of the last-made group it belongs to
+  /// (the most specific one where groups refine regions), -1 for none.
+  std::vector<std::int32_t> last_group() const;
 
   // ---- boundary conditions (later calls override earlier ones per axis) ---------------
   /// Fixes the given axes of the group's particles.
@@ -150,6 +154,14 @@ class Simulation {
   /// constant outside. A particle takes the last history given for one of its groups.
   void force_history(const std::string& group, std::vector<double> times,
                      std::vector<std::array<double, 3>> forces);
+  /// A radial force on each particle of the group: magnitude piecewise linear in time between
+  /// (times, magnitudes), constant outside, along the unit vector from `centre` to the
+  /// particle's start position, with its component along `axis` removed (a pressure on the
+  /// wall of a borehole along `axis`; axis = 0: radial from the point, a spherical charge).
+  /// A positive magnitude pushes away from the centre: the blast load on the rim of a hole.
+  /// A particle at the centre gets no force. Counts as a force history above.
+  void radial_force_history(const std::string& group, std::vector<double> times, std::vector<double> magnitudes,
+                            std::array<double, 3> centre, std::array<double, 3> axis = {0, 0, 0});
   /// Drives the group's particles along the given axes from outside (coupling):
   /// they take the displacement and velocity given by set_kinematics() and move with that
   /// velocity until the next call, exerting their bond and contact forces on the others.
@@ -227,7 +239,6 @@ class Simulation {
   std::vector<std::array<double, 3>> displacements() const;
   std::vector<double> radii() const;
   std::vector<std::uint32_t> ids() const;
-  std::vector<std::uint32_t> group_bits() const;
   /// Fraction of each particle's initial bonds that are broken.
   std::vector<float> damage() const;
   std::vector<PairView> bonds() const;

@@ -109,6 +109,8 @@ enum class GroupSelect {
 enum class BoundaryType { Fixed, Velocity, StepDisplacement };
 /// [[load]] per: the force acts on each particle, or is shared by the group.
 enum class LoadPer { Particle, Group };
+/// [[load]] type: force vectors, or magnitudes pushing away from a centre.
+enum class LoadType { ForceHistory, Radial };
 /// [solver] damping.
 enum class SolverDamping { None, Viscous, Local };
 /// [solver] contact_detection.
@@ -123,6 +125,7 @@ std::string_view to_string(RegionEccentricity v);
 std::string_view to_string(GroupSelect v);
 std::string_view to_string(BoundaryType v);
 std::string_view to_string(LoadPer v);
+std::string_view to_string(LoadType v);
 std::string_view to_string(SolverDamping v);
 std::string_view to_string(ContactDetection v);
 std::string_view to_string(SolverCoupling v);
@@ -207,9 +210,12 @@ struct BoundaryTable {
 struct LoadTable {
   SourcePos pos;
   Located<std::string> group;
-  Located<std::string> type;                         ///< "force_history"
+  Located<LoadType> type;
   Located<std::vector<double>> times;                ///< s, increasing
   Located<std::vector<std::vector<double>>> forces;  ///< N, one row per time, one component per axis
+  Located<std::vector<double>> magnitudes;           ///< N, one per time (radial)
+  Located<std::vector<double>> center;               ///< m (radial; empty: the group's mean position)
+  Located<std::vector<double>> axis;                 ///< 3D radial: a borehole's axis (empty: none)
   Located<LoadPer> per;
 };
 

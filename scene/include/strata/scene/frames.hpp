@@ -20,8 +20,8 @@ struct FrameSelection {
   /// Never-bonded contacts that touch now, as lines with state BondState::Contact; only
   /// those whose two particles pass the group and slice selection.
   bool contacts = true;
-  std::uint32_t group_mask = 0;  ///< 0: any group; else particles with one of these group bits
-  double slice_thickness = 0;    ///< 0: no slice
+  std::vector<std::string> groups;  ///< empty: any particle; else those in one of these groups
+  double slice_thickness = 0;       ///< 0: no slice
   std::array<double, 3> slice_point{}, slice_normal{0, 0, 1};
   /// Surface particles by id: fewer bonds at the start than a particle inside the lattice.
   std::vector<char> surface_by_id;
@@ -30,14 +30,16 @@ struct FrameSelection {
   /// so it holds after a restart too).
   void find_surface(const dem::Simulation& sim);
   /// Whether every particle is written.
-  bool keeps_all() const { return particles == Particles::All && group_mask == 0 && slice_thickness == 0; }
-  /// Whether a particle with these group bits and centre passes the group and slice
-  /// selection (not the surface one).
-  bool in_groups_and_slice(std::uint32_t group_bits, const double* x) const;
+  bool keeps_all() const { return particles == Particles::All && groups.empty() && slice_thickness == 0; }
+  /// Whether a particle in one of `groups` or not (`in_group`) with this centre passes the
+  /// group and slice selection (not the surface one).
+  bool in_groups_and_slice(bool in_group, const double* x) const;
 };
 
 /// Particles as points with the requested fields (id, radius, displacement, velocity, force,
 /// group, damage); `radius` is always written (pictures and ParaView glyphs need it).
+/// `group` is the index of the last-made group a particle belongs to (regions first, then
+/// each [[group]], in scene order), -1 for none.
 io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std::string>& fields);
 
 /// The points of `all` that `sel` keeps (all of them when sel.keeps_all()).

@@ -40,8 +40,9 @@ BondStats bond_stats(const ModelDescription& d, std::size_t bonds);
 /// classes of width c.width·d_ref centred on its multiples; empty classes are left out.
 nlohmann::json bond_length_classes(const preprocess::PairCounts& c);
 
-/// The particles with ids `ids` (ascending) as points: radius, id and group (bit k for
-/// the k-th group of d.groups, as dem::Simulation::group_bits numbers them).
+/// The particles with ids `ids` (ascending) as points: radius, id and group (the index of
+/// the last-made group each belongs to, -1 for none, as dem::Simulation::last_group numbers
+/// them).
 io::PointCloud description_particles(const ModelDescription& d, const std::vector<std::uint32_t>& ids);
 
 /// The FEM regions' meshes as one unstructured grid (triangles or tetrahedra), with the

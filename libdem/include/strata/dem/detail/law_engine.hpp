@@ -33,9 +33,10 @@ class LawEngine {
   /// next step would add, on copies of the pair states.
   virtual double stored_energy(const ModelData<D>& m, const Wall* walls, std::size_t nwalls,
                                double dt) const = 0;
-  /// Sum of the internal forces on the particles of the group mask (same evaluation).
+  /// Sum of the internal forces on the particles of a group (same evaluation):
+  /// set_in_group[s] says whether the particles of group set s belong to it.
   virtual std::array<double, 3> group_force(const ModelData<D>& m, const Wall* walls, std::size_t nwalls,
-                                            double dt, std::uint32_t mask) const = 0;
+                                            double dt, const std::uint8_t* set_in_group) const = 0;
   /// Bonds or contacts with their forces at the current state.
   virtual std::vector<PairView> pairs(const ModelData<D>& m, bool bonds) const = 0;
 };

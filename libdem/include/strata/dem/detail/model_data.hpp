@@ -46,6 +46,10 @@ struct BcParticle {
   double value[3]{};          // velocity (mode 2) or increment (mode 3)
   std::int64_t every[3]{};    // steps between increments (mode 3)
   int history = -1;           // force history index
+  /// Multiplies the force history's value per axis: 1 for a force vector; for a radial load
+  /// (whose history holds its magnitude on every axis) the unit direction away from the
+  /// load's centre. Derived from the start positions (set_load_directions), not saved.
+  double load_dir[3] = {1, 1, 1};
   double dx_prev[3]{};        // last step's displacement (trapezoid work)
   double f_int[3]{};          // last internal force
   double w_ahead = 0;         // work booked for the half interval after the last step

@@ -112,13 +112,13 @@ class Engine final : public LawEngine<D> {
   }
 
   std::array<double, 3> group_force(const ModelData<D>& m, const Wall* walls, std::size_t nwalls, double dt,
-                                    std::uint32_t mask) const override {
+                                    const std::uint8_t* set_in_group) const override {
     const V3 r = par::parallel_sum<V3>(static_cast<std::ptrdiff_t>(m.n()), [&](std::ptrdiff_t pp) {
       const auto p = static_cast<std::size_t>(pp);
       V3 s;
-      const bool gp = m.grp[p] & mask;
+      const bool gp = set_in_group[m.grp[p]];
       dry_pairs(m, dt, p, [&](std::uint32_t j, const double* F, double, std::uint8_t, const double*, bool) {
-        const bool gj = m.grp[j] & mask;
+        const bool gj = set_in_group[m.grp[j]];
         for (int a = 0; a < D; ++a) s.c[a] += (gp ? F[a] : 0.0) - (gj ? F[a] : 0.0);
       });
       if (gp) {
@@ -491,8 +491,8 @@ class Engine final : public LawEngine<D> {
         } else {
           BcParticle& bc = *bc_it++;
           double fapp[3] = {0, 0, 0};
-          if (bc.history >= 0)
-            for (int a = 0; a < D; ++a) fapp[a] = c.hist[bc.history][a];
+          if (bc.history >= 0)  // load_dir: 1 for a force vector, the unit direction of a radial load
+            for (int a = 0; a < D; ++a) fapp[a] = c.hist[bc.history][a] * bc.load_dir[a];
           bc.w_ahead = 0;
           bc.w_ahead_ex = 0;
           double v2f = 0;  // over the free axes
