@@ -315,19 +315,19 @@ std::unique_ptr<ModelBase> make_model(const Settings& s) {
 template std::unique_ptr<ModelBase> make_model<2>(const Settings&);
 template std::unique_ptr<ModelBase> make_model<3>(const Settings&);
 
-#define STRATA_DEM_INSTANTIATE(D)                                                                         \
-  template void Model<D>::reserve(std::size_t);                                                           \
-  template std::size_t Model<D>::add_particle(std::array<double, 3>, double, int, double);                \
-  template std::vector<std::uint32_t> Model<D>::index_of_id() const;                                      \
-  template std::size_t Model<D>::index_of(std::size_t, const char*) const;                                \
-  template void Model<D>::set_velocity(std::size_t, std::array<double, 3>);                               \
-  template void Model<D>::add_to_group(const std::vector<std::uint32_t>&, std::uint32_t);                 \
-  template std::vector<std::uint32_t> Model<D>::members(std::uint32_t) const;                             \
-  template void Model<D>::sort_particles();                                                               \
-  template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>&)   \
-      const;                                                                                              \
-  template std::vector<std::array<double, 3>> Model<D>::displacements() const;                            \
-  template std::vector<float> Model<D>::damage() const;                                                   \
+#define STRATA_DEM_INSTANTIATE(D)                                                                       \
+  template void Model<D>::reserve(std::size_t);                                                         \
+  template std::size_t Model<D>::add_particle(std::array<double, 3>, double, int, double);              \
+  template std::vector<std::uint32_t> Model<D>::index_of_id() const;                                    \
+  template std::size_t Model<D>::index_of(std::size_t, const char*) const;                              \
+  template void Model<D>::set_velocity(std::size_t, std::array<double, 3>);                             \
+  template void Model<D>::add_to_group(const std::vector<std::uint32_t>&, std::uint32_t);               \
+  template std::vector<std::uint32_t> Model<D>::members(std::uint32_t) const;                           \
+  template void Model<D>::sort_particles();                                                             \
+  template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>&) \
+      const;                                                                                            \
+  template std::vector<std::array<double, 3>> Model<D>::displacements() const;                          \
+  template std::vector<float> Model<D>::damage() const;                                                 \
   template std::size_t Model<D>::memory_bytes() const;
 STRATA_DEM_INSTANTIATE(2)
 STRATA_DEM_INSTANTIATE(3)

@@ -125,7 +125,8 @@ void Simulation::step_displacement(const std::string& group, std::array<double, 
     STRATA_CHECK((axes >> a & 1u) || increment[a] == 0, Input,
                  "step_displacement: an increment of {} along axis {} that is not prescribed", increment[a],
                  a);
-  m_->bc_specs.push_back({detail::BcSpec::StepDisp, group_of(*this, group), axes, increment, every_steps, -1});
+  m_->bc_specs.push_back(
+      {detail::BcSpec::StepDisp, group_of(*this, group), axes, increment, every_steps, -1});
   m_->bcs_changed();
 }
 void Simulation::force_history(const std::string& group, std::vector<double> times,

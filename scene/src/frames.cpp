@@ -89,7 +89,8 @@ io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud
                                 const FrameSelection& sel) {
   if (sel.keeps_all()) return all;
   const auto ids = sim.ids();
-  const auto in_group = sel.groups.empty() ? std::vector<std::uint8_t>(all.size(), 1) : sim.in_groups(sel.groups);
+  const auto in_group =
+      sel.groups.empty() ? std::vector<std::uint8_t>(all.size(), 1) : sim.in_groups(sel.groups);
   std::vector<std::size_t> keep;
   if (sel.particles != FrameSelection::Particles::None) {
     for (std::size_t i = 0; i < all.size(); ++i) {
@@ -123,8 +124,8 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
   const auto bonds = which == FrameSelection::Bonds::None ? std::vector<dem::PairView>{} : sim.bonds();
   const bool filtered = !sel.groups.empty() || sel.slice_thickness > 0;
   const auto pos = filtered || sel.contacts ? sim.positions() : std::vector<std::array<double, 3>>{};
-  const auto in_group = filtered && !sel.groups.empty() ? sim.in_groups(sel.groups)
-                                                        : std::vector<std::uint8_t>(pos.size(), 1);
+  const auto in_group =
+      filtered && !sel.groups.empty() ? sim.in_groups(sel.groups) : std::vector<std::uint8_t>(pos.size(), 1);
   // A pair is written when both its particles pass the group and slice selection.
   auto selected = [&](const dem::PairView& p) {
     return !filtered || (sel.in_groups_and_slice(in_group[p.i], pos[p.i].data()) &&

@@ -82,7 +82,8 @@ Simulation build_3d() {
   // near it, and forty groups of one sphere each (more groups than a bit mask would hold)
   std::vector<std::uint32_t> near_axis;
   for (std::uint32_t i = 0; i < lat.size(); ++i)
-    if (std::hypot(lat.x[i][0] - 3e-3, lat.x[i][1] - 3e-3) < 1.6e-3 && lat.x[i][2] > 1e-3) near_axis.push_back(i);
+    if (std::hypot(lat.x[i][0] - 3e-3, lat.x[i][1] - 3e-3) < 1.6e-3 && lat.x[i][2] > 1e-3)
+      near_axis.push_back(i);
   EXPECT_GE(near_axis.size(), 8u);
   sim.add_to_group(near_axis, "borehole");
   sim.radial_force_history("borehole", {0.0, 2e-6}, {0.0, 80.0}, {3e-3, 3e-3, 0}, {0, 0, 1});

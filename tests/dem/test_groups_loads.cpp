@@ -37,7 +37,8 @@ TEST(DemGroups, AnyNumberOfGroupsKeepTheirMembers) {
   }
   EXPECT_EQ(sim.group_index("row11"), 1 + int(n) + 11);
   EXPECT_EQ(sim.group_members("block").size(), n);
-  for (std::uint32_t i = 0; i < n; i += 13) EXPECT_EQ(sim.group_members("p" + std::to_string(i)), std::vector{i});
+  for (std::uint32_t i = 0; i < n; i += 13)
+    EXPECT_EQ(sim.group_members("p" + std::to_string(i)), std::vector{i});
   EXPECT_EQ(sim.group_members("row3").size(), 12u);
 
   const std::uint32_t held = 130;  // its own group has index 131

@@ -512,9 +512,10 @@ TEST(SceneErrors, ShapeAndTypeDependentKeys) {
       "scene.toml:34:9: times must increase: times[2] = 1e-05 is not after times[1] = 2e-05");
   // radial loads: magnitudes, not forces; one per time; no axis in 2D
   const std::string radial = kBase + "[[load]]\ngroup = \"top\"\ntype = \"radial\"\ntimes = [0, 1e-5]\n";
-  EXPECT_EQ(error_of(radial),
-            "scene.toml:34:8: [[load]] at index 0 needs 'magnitudes' for type = \"radial\" (one magnitude per "
-            "time, positive away from `center`)");
+  EXPECT_EQ(
+      error_of(radial),
+      "scene.toml:34:8: [[load]] at index 0 needs 'magnitudes' for type = \"radial\" (one magnitude per "
+      "time, positive away from `center`)");
   EXPECT_EQ(error_of(radial + "magnitudes = [0, 1, 2]\n"),
             "scene.toml:36:14: magnitudes has 3 entries but times has 2: give one magnitude per time");
   EXPECT_EQ(error_of(radial + "magnitudes = [0, 1]\naxis = [0, 1]\n"),
@@ -693,11 +694,11 @@ TEST(SceneBoundaries, PlatensSteppingEveryFewStepsAreNoBlowUp) {
 // add up to the load's magnitude, as the blast load on the rim of a hole is shared.
 TEST(SceneLoads, RadialLoadSharedByAGroupPushesAwayFromTheCentre) {
   for (const std::string center : {"", "center = [0.0151, 0.0148]\n"}) {
-    const std::string text = edit(
-        "[solver]", "[[group]]\nname = \"rim\"\nselect = \"box\"\nbox_min = [0.012, 0.012]\n"
-                    "box_max = [0.018, 0.018]\n\n[[load]]\ngroup = \"rim\"\ntype = \"radial\"\n"
-                    "times = [0, 1]\nmagnitudes = [2e5, 2e5]\nper = \"group\"\n" +
-                        center + "\n[solver]");
+    const std::string text = edit("[solver]",
+                                  "[[group]]\nname = \"rim\"\nselect = \"box\"\nbox_min = [0.012, 0.012]\n"
+                                  "box_max = [0.018, 0.018]\n\n[[load]]\ngroup = \"rim\"\ntype = \"radial\"\n"
+                                  "times = [0, 1]\nmagnitudes = [2e5, 2e5]\nper = \"group\"\n" +
+                                      center + "\n[solver]");
     const Scene sc = strata::scene::parse(text, "scene.toml", {});
     strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
     const auto& sim = m.sim();

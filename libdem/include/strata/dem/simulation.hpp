@@ -160,8 +160,9 @@ class Simulation {
   /// wall of a borehole along `axis`; axis = 0: radial from the point, a spherical charge).
   /// A positive magnitude pushes away from the centre: the blast load on the rim of a hole.
   /// A particle at the centre gets no force. Counts as a force history above.
-  void radial_force_history(const std::string& group, std::vector<double> times, std::vector<double> magnitudes,
-                            std::array<double, 3> centre, std::array<double, 3> axis = {0, 0, 0});
+  void radial_force_history(const std::string& group, std::vector<double> times,
+                            std::vector<double> magnitudes, std::array<double, 3> centre,
+                            std::array<double, 3> axis = {0, 0, 0});
   /// Drives the group's particles along the given axes from outside (coupling):
   /// they take the displacement and velocity given by set_kinematics() and move with that
   /// velocity until the next call, exerting their bond and contact forces on the others.

@@ -50,11 +50,11 @@ struct BcParticle {
   /// (whose history holds its magnitude on every axis) the unit direction away from the
   /// load's centre. Derived from the start positions (set_load_directions), not saved.
   double load_dir[3] = {1, 1, 1};
-  double dx_prev[3]{};        // last step's displacement (trapezoid work)
-  double f_int[3]{};          // last internal force
-  double w_ahead = 0;         // work booked for the half interval after the last step
-  double w_ahead_ex = 0;      // the part of w_ahead on exchange axes
-  double ke_driven = 0;       // ½·Σ v(n-½)·v(n+½)/m⁻¹ over the prescribed axes, last step
+  double dx_prev[3]{};    // last step's displacement (trapezoid work)
+  double f_int[3]{};      // last internal force
+  double w_ahead = 0;     // work booked for the half interval after the last step
+  double w_ahead_ex = 0;  // the part of w_ahead on exchange axes
+  double ke_driven = 0;   // ½·Σ v(n-½)·v(n+½)/m⁻¹ over the prescribed axes, last step
 };
 
 /// Rigid frictionless plane: point, unit normal (towards the particles), velocity, stiffness.
