@@ -34,6 +34,7 @@
 #include <vtkFeatureEdges.h>
 #include <vtkFloatArray.h>
 #include <vtkGlyph3DMapper.h>
+#include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
 #include <vtkLight.h>
 #include <vtkLineSource.h>
@@ -53,6 +54,7 @@
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkSphereSource.h>
+#include <vtkStaticPointLocator.h>
 #include <vtkTableBasedClipDataSet.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
@@ -62,7 +64,6 @@
 
 #include <cstdlib>
 #include <sstream>
-#include <unordered_map>
 #endif
 
 namespace strata::io {
@@ -402,52 +403,39 @@ Outward outward_directions(const std::vector<double>& xyz, double reach) {
   Outward res{std::vector<double>(3 * n, 0.0), std::vector<bool>(n, true)};
   auto& out = res.dir;
   if (n == 0 || !(reach > 0)) return res;
-  double lo[3] = {0, 0, 0};
-  for (int k = 0; k < 3; ++k) {
-    lo[k] = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < n; ++i)
-      if (std::isfinite(xyz[3 * i + k])) lo[k] = std::min(lo[k], xyz[3 * i + k]);
-    if (!std::isfinite(lo[k])) lo[k] = 0;
-  }
-  // Points sorted by grid cell (cells `reach` wide); a cell's 21-bit coordinates packed
-  // into one key (keys of far apart cells may coincide, which only costs distance tests;
-  // a point with a coordinate that is not finite has no neighbours).
-  auto cell = [&](const double* p, int k) {
-    const double c = std::floor((p[k] - lo[k]) / reach);
-    return static_cast<std::int64_t>(std::isfinite(c) ? std::clamp(c, -1e15, 1e15) : 0.0);
+  // A point locator over the points with finite coordinates (the others have no neighbours).
+  auto finite = [&](std::size_t i) {
+    return std::isfinite(xyz[3 * i]) && std::isfinite(xyz[3 * i + 1]) && std::isfinite(xyz[3 * i + 2]);
   };
-  auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) {
-    constexpr std::int64_t m = (std::int64_t{1} << 21) - 1;
-    return (x & m) | (y & m) << 21 | (z & m) << 42;
-  };
-  std::vector<std::pair<std::int64_t, std::size_t>> order(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double* p = &xyz[3 * i];
-    order[i] = {key(cell(p, 0), cell(p, 1), cell(p, 2)), i};
-  }
-  std::sort(order.begin(), order.end());
-  std::unordered_map<std::int64_t, std::pair<std::size_t, std::size_t>> cells;
-  for (std::size_t a = 0; a < n;) {
-    std::size_t b = a;
-    while (b < n && order[b].first == order[a].first) ++b;
-    cells.emplace(order[a].first, std::make_pair(a, b));
-    a = b;
-  }
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  std::vector<std::size_t> point_of;  // locator id -> index into xyz
+  for (std::size_t i = 0; i < n; ++i)
+    if (finite(i)) {
+      points->InsertNextPoint(&xyz[3 * i]);
+      point_of.push_back(i);
+    }
+  if (point_of.empty()) return res;
+  vtkNew<vtkPolyData> cloud;
+  cloud->SetPoints(points);
+  vtkNew<vtkStaticPointLocator> locator;
+  locator->SetDataSet(cloud);
+  locator->BuildLocator();
+  vtkNew<vtkIdList> found;
+  // f(j, p_i - p_j) for each other point j closer than `reach` (strictly), in index order
   auto for_neighbours = [&](std::size_t i, auto&& f) {
+    if (!finite(i)) return;
     const double* p = &xyz[3 * i];
-    const std::int64_t c[3] = {cell(p, 0), cell(p, 1), cell(p, 2)};
-    for (std::int64_t dz = -1; dz <= 1; ++dz)
-      for (std::int64_t dy = -1; dy <= 1; ++dy)
-        for (std::int64_t dx = -1; dx <= 1; ++dx) {
-          const auto it = cells.find(key(c[0] + dx, c[1] + dy, c[2] + dz));
-          if (it == cells.end()) continue;
-          for (std::size_t a = it->second.first; a < it->second.second; ++a) {
-            const std::size_t j = order[a].second;
-            const double* q = &xyz[3 * j];
-            const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
-            if (j != i && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach) f(j, d);
-          }
-        }
+    locator->FindPointsWithinRadius(reach, p, found);
+    std::vector<std::size_t> near;
+    for (vtkIdType k = 0; k < found->GetNumberOfIds(); ++k)
+      near.push_back(point_of[std::size_t(found->GetId(k))]);
+    std::sort(near.begin(), near.end());
+    for (const std::size_t j : near) {
+      const double* q = &xyz[3 * j];
+      const double d[3] = {p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+      if (j != i && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach * reach) f(j, d);
+    }
   };
   std::vector<double> raw(3 * n, 0.0);
   for (std::size_t i = 0; i < n; ++i) {

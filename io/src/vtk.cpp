@@ -6,6 +6,7 @@
 #include "vtk_grid.hpp"
 
 #if STRATA_WITH_VTK
+#include <vtkCallbackCommand.h>
 #include <vtkCellArray.h>
 #include <vtkCellArrayIterator.h>
 #include <vtkCellData.h>
@@ -246,28 +247,30 @@ void write_lines(const std::filesystem::path& path, const PointCloud& points, co
 }
 
 namespace {
-/// The errors a VTK XML reader meets (a truncated or damaged file): VTK's readers print them
-/// and go on with what they could read, so they are collected here and turned into an Error.
-class ReadErrors : public vtkCommand {
- public:
-  static ReadErrors* New();
-  vtkTypeMacro(ReadErrors, vtkCommand) void Execute(vtkObject*, unsigned long, void* data) override {
-    if (first.empty()) first = data ? static_cast<const char*>(data) : "an error without a message";
-  }
-  std::string first;  ///< empty: no error
-};
-vtkStandardNewMacro(ReadErrors)
+/// Keeps the first error a VTK object reports in the std::string `client`: VTK's XML readers
+/// print the errors of a truncated or damaged file and go on with what they could read, so
+/// read_checked() collects them and turns them into an Error.
+void keep_first_error(vtkObject*, unsigned long, void* client, void* message) {
+  auto& first = *static_cast<std::string*>(client);
+  if (first.empty()) first = message ? static_cast<const char*>(message) : "an error without a message";
+}
 
-    /// Reads `path` with the XML reader `r`; throws Error(IO) naming the file and VTK's first
-    /// complaint when the file is damaged.
-    void read_checked(vtkXMLReader* r, const std::filesystem::path& path) {
-  vtkNew<ReadErrors> errors;
+/// Reads `path` with the XML reader `r`; throws Error(IO) naming the file and VTK's first
+/// complaint when the file is damaged.
+void read_checked(vtkXMLReader* r, const std::filesystem::path& path) {
+  std::string why;
+  vtkNew<vtkCallbackCommand> errors;
+  errors->SetCallback(keep_first_error);
+  errors->SetClientData(&why);
   r->SetReaderErrorObserver(errors);
   r->SetParserErrorObserver(errors);
-  r->AddObserver(vtkCommand::ErrorEvent, errors);
+  const unsigned long tag = r->AddObserver(vtkCommand::ErrorEvent, errors);
   r->SetFileName(path.c_str());
   r->Update();
-  std::string why = errors->first;
+  // `why` ends with this call: the reader must not report into it afterwards
+  r->SetReaderErrorObserver(nullptr);
+  r->SetParserErrorObserver(nullptr);
+  r->RemoveObserver(tag);
   if (why.empty() && (r->GetErrorCode() != 0 || !r->GetOutputDataObject(0))) why = "VTK could not read it";
   // VTK's messages read "ERROR: In <source>, line <n>\n<class> (<address>): <what>\n": keep <what>.
   if (const auto at = why.find("): "); at != std::string::npos) why = why.substr(at + 3);

@@ -426,10 +426,7 @@ Geometry read_gmsh(const fs::path& file, const GeometryOptions& opt) {
   const std::string what = file.string();
   Geometry g;
   g.file = what;
-  gs.run(detail::GmshSession::cannot(what, "read this file"), [&] { gmsh::open(file.string()); });
-  const std::string err = detail::GmshSession::last_error();
-  STRATA_CHECK(err.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "read this file"),
-               detail::GmshSession::explain(err));
+  gs.run_checked(what, "read this file", [&] { gmsh::open(file.string()); });
   const int dim = gmsh::model::getDimension();
   STRATA_CHECK(
       dim >= 2, Input,
@@ -449,16 +446,13 @@ Geometry read_gmsh(const fs::path& file, const GeometryOptions& opt) {
     if (opt.mesh_size > 0) gmsh::option::setNumber("Mesh.MeshSizeMax", opt.mesh_size / opt.unit);
     if (opt.mesh_size_min > 0) gmsh::option::setNumber("Mesh.MeshSizeMin", opt.mesh_size_min / opt.unit);
     if (opt.curvature_points > 0) gmsh::option::setNumber("Mesh.MinimumCirclePoints", opt.curvature_points);
-    gs.run(detail::GmshSession::cannot(what, "mesh this geometry"), [&] {
+    gs.run_checked(what, "mesh this geometry", [&] {
       refuse_huge_mesh(what, dim);
       gmsh::model::mesh::generate(dim);
       // Recombined surfaces (Recombine, structured extrusions of lines) come out as
       // quadrangles: each is split into two triangles.
       if (dim == 2) gmsh::model::mesh::splitQuadrangles();
     });
-    const std::string merr = detail::GmshSession::last_error();
-    STRATA_CHECK(merr.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "mesh this geometry"),
-                 detail::GmshSession::explain(merr));
   }
 
   g = detail::extract_gmsh_model(what, dim);

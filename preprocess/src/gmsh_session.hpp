@@ -39,6 +39,16 @@ class GmshSession {
     }
   }
 
+  /// run(f) under "<file>: gmsh X cannot <action>", then refuses an error gmsh logged
+  /// without throwing (it logs some, e.g. of a .geo file it could partly read, and goes on).
+  template <typename F>
+  void run_checked(const std::string& file, const std::string& action, F&& f) {
+    const std::string what = cannot(file, action);
+    run(what, std::forward<F>(f));
+    const std::string err = last_error();
+    if (!err.empty()) fail(ErrorKind::Input, "{}: {}", what, explain(err));
+  }
+
   /// Last error gmsh logged (empty when none).
   static std::string last_error();
   /// The version of the gmsh library in use, e.g. "4.8.4" (read once).

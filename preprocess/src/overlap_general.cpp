@@ -57,10 +57,7 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
   STRATA_CHECK(std::filesystem::is_regular_file(file), Input,
                "coupled model: geometry file {} does not exist", what);
   detail::GmshSession gs;
-  gs.run(detail::GmshSession::cannot(what, "read this file"), [&] { gmsh::open(file.string()); });
-  const std::string err = detail::GmshSession::last_error();
-  STRATA_CHECK(err.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "read this file"),
-               detail::GmshSession::explain(err));
+  gs.run_checked(what, "read this file", [&] { gmsh::open(file.string()); });
   const int dim = gmsh::model::getDimension();
   STRATA_CHECK(dim == want_dim, Input,
                "{}: the geometry is {}D but the lattice ({}) is {}D; allowed: a hex lattice with a 2D "
@@ -170,7 +167,7 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
     // Γ is sampled by the Distance field: about 4 points per diameter along a curve's bounds
     // diagonal (2D); a surface is sampled on an n x n grid, capped for big surfaces (3D).
     const double n = std::ceil(4 * diag / opt.d) + 20;
-    gs.run(detail::GmshSession::cannot(what, "mesh this geometry"), [&] {
+    gs.run_checked(what, "mesh this geometry", [&] {
       namespace field = gmsh::model::mesh::field;
       const int fd = field::add("Distance");
       field::setNumbers(fd, dim == 2 ? "CurvesList" : "SurfacesList", gamma_tags);
@@ -184,9 +181,6 @@ Meshed mesh_regions(const std::filesystem::path& file, const std::vector<std::st
       gmsh::option::setNumber("Mesh.MeshSizeExtendFromBoundary", 0);
       gmsh::model::mesh::generate(dim);
     });
-    const std::string merr = detail::GmshSession::last_error();
-    STRATA_CHECK(merr.empty(), Input, "{}: {}", detail::GmshSession::cannot(what, "mesh this geometry"),
-                 detail::GmshSession::explain(merr));
   }
 
   Meshed m;
