@@ -609,6 +609,27 @@ void setup_platens(const Scene& sc, BuiltModel& m) {
   if (dim == 2) p.area *= sc.scene.thickness;
   p.radius = rad.empty() ? 0 : rad[0];
   p.length0 = platen_distance(m);
+  // the free sides: centres within 0.75 d of the outermost column's (a hexagonal lattice's
+  // shorter rows start half a diameter in), platen rows left out
+  const auto ids = sim.ids();
+  std::vector<char> platen(ids.size(), 0);
+  for (const auto& g : {p.top, p.bottom})
+    for (auto id : sim.group_members(g)) platen[id] = 1;
+  for (int a = 0; a < dim; ++a) {
+    if (a == p.axis) continue;
+    PlatenProbe::Sides s;
+    s.axis = a;
+    double low_sum = 0, high_sum = 0;
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      if (platen[ids[i]]) continue;
+      const double band = 1.5 * rad[i];
+      if (pos[i][a] - rad[i] <= lo[a] + band) s.low.push_back(ids[i]), low_sum += pos[i][a];
+      if (pos[i][a] + rad[i] >= hi[a] - band) s.high.push_back(ids[i]), high_sum += pos[i][a];
+    }
+    if (s.low.empty() || s.high.empty()) continue;
+    s.width0 = high_sum / double(s.high.size()) - low_sum / double(s.low.size());
+    if (s.width0 > 0) p.sides.push_back(std::move(s));
+  }
 }
 
 BuiltModel build_model(const Scene& sc, bool force) {
@@ -698,6 +719,21 @@ AxialState axial_state(const BuiltModel& m) {
   s.force_bottom = m.sim().group_force(p.bottom)[p.axis];
   // Internal forces push the top platen up (+) and the bottom one down (-) in compression.
   s.stress = 0.5 * (s.force_top - s.force_bottom) / p.area;
+  if (!p.sides.empty()) {
+    const auto pos = m.sim().positions();
+    const auto ids = m.sim().ids();
+    std::vector<std::uint32_t> where(ids.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = std::uint32_t(i);
+    auto mean = [&](const std::vector<std::uint32_t>& side, int a) {
+      double sum = 0;
+      for (auto id : side) sum += pos[where[id]][a];
+      return sum / double(side.size());
+    };
+    for (const auto& side : p.sides)
+      s.lateral_strain +=
+          (mean(side.high, side.axis) - mean(side.low, side.axis) - side.width0) / side.width0;
+    s.lateral_strain /= double(p.sides.size());
+  }
   return s;
 }
 

@@ -44,7 +44,8 @@ class RunOutput {
     }
     if (fem_on_) fem_.emplace(dir, "fem", mode);
     std::vector<std::string> cols{"step", "time"};
-    if (m.platens.enabled) cols.insert(cols.end(), {"strain", "stress", "force_top", "force_bottom"});
+    if (m.platens.enabled)
+      cols.insert(cols.end(), {"strain", "stress", "force_top", "force_bottom", "lateral_strain"});
     if (particles_on_)
       cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
                                "broken_tension", "broken_shear", "contacts"});
@@ -75,6 +76,7 @@ class RunOutput {
     }
     strain_ = resume->get<double>("driver/probes/strain");
     stress_ = resume->get<double>("driver/probes/stress", strain_.size());
+    lateral_ = resume->get<double>("driver/probes/lateral_strain", strain_.size());
     probe_steps_ = resume->get<std::int64_t>("driver/probes/step", strain_.size());
   }
 
@@ -92,6 +94,7 @@ class RunOutput {
     }
     w.put("driver/probes/strain", strain_);
     w.put("driver/probes/stress", stress_);
+    w.put("driver/probes/lateral_strain", lateral_);
     w.put("driver/probes/step", probe_steps_);
   }
 
@@ -139,9 +142,10 @@ class RunOutput {
     std::vector<double> row{double(m.step_count()), m.time()};
     if (m.platens.enabled) {
       const AxialState a = axial_state(m);
-      row.insert(row.end(), {a.strain, a.stress, a.force_top, a.force_bottom});
+      row.insert(row.end(), {a.strain, a.stress, a.force_top, a.force_bottom, a.lateral_strain});
       strain_.push_back(a.strain);
       stress_.push_back(a.stress);
+      lateral_.push_back(a.lateral_strain);
       probe_steps_.push_back(m.step_count());
     }
     time_.push_back(m.time());
@@ -306,6 +310,7 @@ class RunOutput {
         if (it != probe_steps_.end()) summary["tensile_onset_strain"] = strain_[it - probe_steps_.begin()];
         break;
       }
+      if (const auto e = measured_elastic(m)) summary["measured_elastic"] = *e;
     }
     write_file_atomic(dir_ / "summary.json", summary.dump(2) + "\n");
     written_.push_back(dir_ / "summary.json");
@@ -317,6 +322,39 @@ class RunOutput {
       if (walls_) written_.push_back(walls_->pvd_path());
     }
     if (fem_on_ && !fem_->frames().empty()) written_.push_back(fem_->pvd_path());
+  }
+
+  /// Young's modulus and Poisson's ratio measured on the specimen: least-squares slopes of
+  /// stress against axial strain and of lateral against axial strain over the probe rows
+  /// whose stress lies between 10 % and 60 % of the stress at the first break (at the peak
+  /// when nothing broke), where the specimen is elastic and past the first transients.
+  /// Nothing when fewer than 5 rows fall in that window.
+  std::optional<json> measured_elastic(const BuiltModel& m) const {
+    std::size_t end = stress_.size();  // rows before the first break
+    if (!m.sim().breaks().empty()) {
+      const auto first = m.sim().breaks().front().step;
+      end = std::size_t(std::lower_bound(probe_steps_.begin(), probe_steps_.end(), first) -
+                        probe_steps_.begin());
+    }
+    if (end == 0) return std::nullopt;
+    const double top = *std::max_element(stress_.begin(), stress_.begin() + std::ptrdiff_t(end));
+    std::vector<std::size_t> rows;
+    for (std::size_t i = 0; i < end; ++i)
+      if (stress_[i] >= 0.1 * top && stress_[i] <= 0.6 * top) rows.push_back(i);
+    if (rows.size() < 5 || !(top > 0)) return std::nullopt;
+    auto slope = [&](const std::vector<double>& y) {
+      double sx = 0, sy = 0, sxx = 0, sxy = 0;
+      for (auto i : rows)
+        sx += strain_[i], sy += y[i], sxx += strain_[i] * strain_[i], sxy += strain_[i] * y[i];
+      const double n = double(rows.size());
+      return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    };
+    json e;
+    e["youngs_modulus_pa"] = slope(stress_);
+    if (!m.platens.sides.empty()) e["poisson_ratio"] = slope(lateral_);
+    e["rows"] = rows.size();
+    e["window"] = "stress 10-60 % of that at the first break (or the peak), before it";
+    return e;
   }
 
   /// Plots and pictures (needs STRATA_WITH_RENDER). `stop_requested` is asked before each
@@ -411,7 +449,7 @@ class RunOutput {
   bool particles_on_ = false, fem_on_ = false;
   std::optional<io::Series> particles_, bonds_, fem_, walls_;  // walls_ only when there are walls
   std::optional<io::CsvWriter> probes_;
-  std::vector<double> time_, kinetic_, bond_, work_, fem_kinetic_, fem_strain_, strain_, stress_;
+  std::vector<double> time_, kinetic_, bond_, work_, fem_kinetic_, fem_strain_, strain_, stress_, lateral_;
   std::vector<std::int64_t> probe_steps_;
   std::vector<fs::path> written_;
   std::int64_t last_frame_step_ = -1;

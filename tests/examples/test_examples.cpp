@@ -96,6 +96,17 @@ TEST(Examples, UniaxialCompressionQuick) {
   const double peak_stress = summary_number(summary, "peak_stress_pa");
   EXPECT_GT(peak_strain, onset);
   EXPECT_LT(stress.back(), 0.5 * peak_stress) << "no stress drop after the peak";
+
+  // summary.json's measured elastic constants, from the stress and lateral-strain probes,
+  // against the hex lattice's (plane stress): E·t within 2 % as above; ν = (Kn − Ks)/(3Kn + Ks)
+  // = 0.1905 within 5 % (the finite block between frictionless platens measures 0.195).
+  const auto measured = summary.find("\"measured_elastic\"");
+  ASSERT_NE(measured, std::string::npos) << "summary.json has no measured_elastic";
+  const std::string block = summary.substr(measured, summary.find('}', measured) - measured);
+  const double e_summary = summary_number(block, "youngs_modulus_pa");
+  const double nu_summary = summary_number(block, "poisson_ratio");
+  EXPECT_NEAR(e_summary / e_lattice, 1.0, 0.02) << "measured E = " << e_summary;
+  EXPECT_NEAR(nu_summary / ((kn - ks) / (3 * kn + ks)), 1.0, 0.05) << "measured nu = " << nu_summary;
 }
 
 // examples/02_metamaterial_chain (Li et al. 2023), quick variant of the metamaterial chain (a

@@ -107,6 +107,15 @@ struct PlatenProbe {
   double length0 = 0;  ///< initial distance between the platens' outer faces (m)
   double area = 0;     ///< loaded cross-section: width × thickness (2D) or area (3D), m²
   double radius = 0;   ///< particle radius of the platen rows
+  /// The specimen's free sides, for the lateral strain: along each axis but the loaded one,
+  /// the particles (ids) whose centres lie within 0.75 d of the outermost column's centre at
+  /// the start, on the low and the high side, platen rows left out.
+  struct Sides {
+    int axis = 0;
+    std::vector<std::uint32_t> low, high;
+    double width0 = 0;  ///< distance between the two sides' mean centres at the start (m)
+  };
+  std::vector<Sides> sides;
 };
 
 /// One FEM region as built: its elements are block `block` of the FEM mesh.
@@ -198,9 +207,12 @@ struct BuiltModel {
 /// dt above the critical step of any part unless allowed (`force` or solver.allow_unstable).
 BuiltModel build_model(const scene::Scene& sc, bool force);
 
-/// Axial strain and stress between the platens at the simulation's current state.
+/// Axial strain and stress between the platens at the simulation's current state, and the
+/// lateral strain of the free sides (positive in expansion; in 3D the mean of both lateral
+/// axes).
 struct AxialState {
   double strain = 0, stress = 0, force_top = 0, force_bottom = 0;
+  double lateral_strain = 0;
 };
 AxialState axial_state(const BuiltModel& m);
 
