@@ -175,7 +175,7 @@ void Model<D>::sort_particles() {
   std::vector<std::uint32_t> inv;
   std::vector<std::array<std::uint32_t, 2>> pairs;
   std::vector<std::uint8_t> pst;
-  std::vector<double> pus, pr0, pkf;
+  std::vector<double> pus, pr0, pkf, psf;
   if (bonds.size() > 0) {
     inv.assign(N, 0);
     for (std::size_t i = 0; i < N; ++i) inv[perm[i]] = static_cast<std::uint32_t>(i);
@@ -187,6 +187,7 @@ void Model<D>::sort_particles() {
         if (!bonds.r0.empty()) {
           pr0.push_back(bonds.r0[k]);
           pkf.push_back(bonds.kf[k]);
+          psf.push_back(bonds.sf[k]);
         }
       }
   }
@@ -215,6 +216,7 @@ void Model<D>::sort_particles() {
     nb.us.resize(pairs.size() * kNs);
     nb.r0.resize(pr0.size());
     nb.kf.resize(pkf.size());
+    nb.sf.resize(psf.size());
     for (std::size_t k = 0; k < order.size(); ++k) {
       const auto o = order[k];
       nb.off[pairs[o][0] + 1]++;
@@ -224,6 +226,7 @@ void Model<D>::sort_particles() {
       if (!pr0.empty()) {
         nb.r0[k] = pr0[o];
         nb.kf[k] = pkf[o];
+        nb.sf[k] = psf[o];
       }
     }
     for (std::size_t i = 0; i < N; ++i) nb.off[i + 1] += nb.off[i];

@@ -109,7 +109,7 @@ class ModelBase {
   virtual std::size_t particle_count() const = 0;
   virtual void bond_touching_pairs(double tol) = 0;
   virtual void set_bonds(const std::vector<std::uint32_t>& i, const std::vector<std::uint32_t>& j,
-                         const std::vector<double>& factor) = 0;
+                         const std::vector<double>& factor, const std::vector<double>& strength) = 0;
   virtual void set_velocity(std::size_t id, std::array<double, 3> v) = 0;
   /// Driven particles (coupling): displacement and velocity of one particle by id.
   virtual void set_kinematics(std::size_t id, const std::array<double, 3>& u,
@@ -276,7 +276,7 @@ class Model final : public ModelBase, public ModelData<D> {
   PairList build_pairs(const Grid& g, Accept&& accept) const;
   void bond_touching_pairs(double tol) override;
   void set_bonds(const std::vector<std::uint32_t>& bi, const std::vector<std::uint32_t>& bj,
-                 const std::vector<double>& factor) override;
+                 const std::vector<double>& factor, const std::vector<double>& strength) override;
   bool bonded(std::size_t p, std::uint32_t q) const;
   void rebuild_contacts();
   int effective_threads(int nt) const;

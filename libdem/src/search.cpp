@@ -128,12 +128,14 @@ void Model<D>::bond_touching_pairs(double tol) {
 
 template <int D>
 void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector<std::uint32_t>& bj,
-                         const std::vector<double>& factor) {
+                         const std::vector<double>& factor, const std::vector<double>& strength) {
   STRATA_CHECK(!initialised, Input, "set_bonds: call it before initialise()");
-  STRATA_CHECK(bi.size() == bj.size() && (factor.empty() || factor.size() == bi.size()), Input,
-               "set_bonds: {} first ends, {} second ends and {} factors (need equal counts; factors may be "
-               "omitted)",
-               bi.size(), bj.size(), factor.size());
+  STRATA_CHECK(bi.size() == bj.size() && (factor.empty() || factor.size() == bi.size()) &&
+                   (strength.empty() || strength.size() == bi.size()),
+               Input,
+               "set_bonds: {} first ends, {} second ends, {} stiffness and {} strength factors (need equal "
+               "counts; factors may be omitted)",
+               bi.size(), bj.size(), factor.size(), strength.size());
   STRATA_CHECK(bonds.size() == 0, Input,
                "set_bonds: the model has bonds already (call it once, instead of "
                "bond_touching_pairs)");
@@ -149,6 +151,9 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
                  bj[b], N);
     const double f = factor.empty() ? 1.0 : factor[b];
     STRATA_CHECK(f > 0 && f <= 1, Input, "set_bonds: stiffness factor {} of bond {} must be in (0, 1]", f, b);
+    const double g = strength.empty() ? 1.0 : strength[b];
+    STRATA_CHECK(g > 0 && std::isfinite(g), Input, "set_bonds: strength factor {} of bond {} must be > 0", g,
+                 b);
     std::uint32_t p = inv[bi[b]], q = inv[bj[b]];
     if (p > q) std::swap(p, q);
     pairs[b] = {p, q};
@@ -162,6 +167,7 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
   L.j.resize(pairs.size());
   L.r0.resize(pairs.size());
   L.kf.resize(pairs.size());
+  L.sf.resize(pairs.size());
   for (std::size_t k = 0; k < order.size(); ++k) {
     const auto o = order[k];
     STRATA_CHECK(k == 0 || pairs[o] != pairs[order[k - 1]], Input,
@@ -170,6 +176,7 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
     L.j[k] = pairs[o][1];
     L.r0[k] = std::sqrt(dist2(pairs[o][0], pairs[o][1]));  // rest length: the initial distance
     L.kf[k] = factor.empty() ? 1.0 : factor[o];
+    L.sf[k] = strength.empty() ? 1.0 : strength[o];
   }
   for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
   L.st.assign(L.size(), pair_state::kIntact);
@@ -301,7 +308,7 @@ void Model<D>::build_plan(int nt) {
   template typename Model<D>::Grid Model<D>::build_grid(double) const;                                    \
   template void Model<D>::bond_touching_pairs(double);                                                    \
   template void Model<D>::set_bonds(const std::vector<std::uint32_t>&, const std::vector<std::uint32_t>&, \
-                                    const std::vector<double>&);                                          \
+                                    const std::vector<double>&, const std::vector<double>&);              \
   template bool Model<D>::bonded(std::size_t, std::uint32_t) const;                                       \
   template void Model<D>::rebuild_contacts();                                                             \
   template int Model<D>::effective_threads(int) const;                                                    \

@@ -47,8 +47,8 @@ std::size_t Simulation::add_particle(std::array<double, 3> x, double radius, int
 std::size_t Simulation::particle_count() const { return m_->particle_count(); }
 void Simulation::bond_touching_pairs(double tolerance) { m_->bond_touching_pairs(tolerance); }
 void Simulation::set_bonds(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& second,
-                           const std::vector<double>& factor) {
-  m_->set_bonds(first, second, factor);
+                           const std::vector<double>& factor, const std::vector<double>& strength) {
+  m_->set_bonds(first, second, factor, strength);
 }
 void Simulation::set_velocity(std::size_t id, std::array<double, 3> v) { m_->set_velocity(id, v); }
 

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -161,6 +162,10 @@ void pair_list(Io& io, const std::string& name, PairList& L) {
   io.vec(name + "/shear_displacement", L.us);
   io.vec(name + "/rest_length", L.r0);  // eccentric lattices only (else empty)
   io.vec(name + "/stiffness_factor", L.kf);
+  if (io.has(name + "/strength_factor"))  // from format 3
+    io.vec(name + "/strength_factor", L.sf);
+  else if constexpr (Io::kLoading)
+    L.sf.assign(L.kf.size(), 1.0);
 }
 
 // The whole state, in one place for both directions.
@@ -402,6 +407,9 @@ void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
     if (!L->r0.empty() || !L->kf.empty()) {
       same(L->r0.size(), "bond rest lengths", L->j.size());
       same(L->kf.size(), "bond stiffness factors", L->j.size());
+      same(L->sf.size(), "bond strength factors", L->j.size());
+      for (const double f : L->sf)
+        STRATA_CHECK(f > 0 && std::isfinite(f), IO, "damaged state: bond strength factor {}", f);
     }
     STRATA_CHECK(L->off.front() == 0 && L->off.back() == L->j.size(), IO, "damaged state: pair offsets");
     for (std::size_t p = 0; p < n; ++p) {

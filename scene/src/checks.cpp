@@ -142,6 +142,11 @@ class KeyChecks {
     for (const Table& r : scene.tables("region")) {
       check_reference(r, "material", "[[material]]", materials);
       if (r.str("kind") == "particles") need(region_spec, r, "diameter", "kind");
+      if (r.str("strength_spread") != "none" && !(r.real("strength_cov") > 0))
+        report(r.given("strength_cov") ? r.where("strength_cov") : r.where("strength_spread"),
+               fmt::format("strength_spread = \"{}\" needs strength_cov > 0 (the coefficient of variation "
+                           "of the bond strengths, e.g. 0.2)",
+                           r.str("strength_spread")));
       const std::string& lattice = r.str("lattice");
       if (lattice == "hex" && dim == 3)
         report(r.where("lattice"), "lattice = \"hex\" is for 2D scenes; in 3D use hcp or fcc (or auto)");

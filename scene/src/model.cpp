@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <random>
 #include <set>
 
 namespace strata::scene {
@@ -350,6 +351,13 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
       s.bonds = std::move(e.bonds);
       d.bonds_across_regions = false;
     }
+    if (r.strength_spread != StrengthSpread::None) {
+      s.strength_spread = r.strength_spread;
+      s.strength_cov = r.strength_cov;
+      // its own stream: the seed, the region's index and a tag apart from the offsets'
+      s.strength_seed = (std::uint64_t(st.seed.value) << 20) ^ (d.regions.size() << 4) ^ 0x5u;
+      d.bonds_across_regions = false;  // each region bonded within itself, factors per bond
+    }
     info.particles = f.lattice().size();
     const double rad = info.diameter / 2;
     const double one = dim == 2 ? M_PI * rad * rad : 4.0 / 3.0 * M_PI * rad * rad * rad;
@@ -517,7 +525,7 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
   } else {
     // eccentric regions present: bonds as data, each region bonded within itself
     std::vector<std::uint32_t> bi, bj;
-    std::vector<double> factor;
+    std::vector<double> factor, strength;
     for (auto& s : d.sites) {
       if (!s.eccentric) s.bonds = preprocess::touching_pairs(s.sites);
       const auto& b = s.bonds;
@@ -526,8 +534,14 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
         bj.push_back(s.first_id + b.j[q]);
         factor.push_back(b.stiffness_factor[q]);
       }
+      if (s.strength_spread == StrengthSpread::None) {
+        strength.insert(strength.end(), b.size(), 1.0);
+      } else {
+        const auto f = strength_factors(s.strength_spread, s.strength_cov, b.size(), s.strength_seed);
+        strength.insert(strength.end(), f.begin(), f.end());
+      }
     }
-    sim.set_bonds(bi, bj, factor);
+    sim.set_bonds(bi, bj, factor, strength);
   }
 
   for (const auto& b : sc.boundaries) {
@@ -578,6 +592,38 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
     for (double& c : n) c /= len;
     sim.add_wall(vec3(w.point), n, vec3(w.velocity), k);
   }
+}
+
+std::vector<double> strength_factors(StrengthSpread spread, double cov, std::size_t count,
+                                     std::uint64_t seed) {
+  std::vector<double> out(count, 1.0);
+  if (spread == StrengthSpread::None || count == 0) return out;
+  STRATA_CHECK(cov > 0 && cov <= 1, Input, "strength_cov = {} must be in (0, 1]", cov);
+  std::mt19937_64 rng(seed);
+  if (spread == StrengthSpread::Normal) {
+    std::normal_distribution<double> normal(1.0, cov);
+    for (double& f : out) do
+        f = normal(rng);
+      while (f < 1e-3);  // no bond without strength
+    return out;
+  }
+  // Weibull: the modulus k whose coefficient of variation √(Γ(1+2/k)/Γ(1+1/k)² − 1) is cov
+  // (it falls as k grows), and the scale that makes the mean 1
+  auto cov_of = [](double k) {
+    const double g1 = std::tgamma(1 + 1 / k);
+    return std::sqrt(std::tgamma(1 + 2 / k) / (g1 * g1) - 1);
+  };
+  double lo = 0.2, hi = 1e3;
+  for (int it = 0; it < 200; ++it) {
+    const double mid = std::sqrt(lo * hi);
+    (cov_of(mid) > cov ? lo : hi) = mid;
+  }
+  const double k = std::sqrt(lo * hi);
+  std::weibull_distribution<double> weibull(k, 1 / std::tgamma(1 + 1 / k));
+  for (double& f : out) do
+      f = weibull(rng);
+    while (f < 1e-3);
+  return out;
 }
 
 std::int64_t step_count_of(const SolverTable& solver, double dt, int quantum) {

@@ -91,9 +91,35 @@ TEST(EccBonds, BadBondListsAreRefused) {
   const auto lat = block(2);
   Simulation sim(2, Settings{.dt = 1e-9});
   add_lattice(sim, lat, sim.add_material(c1_material(false)));
-  EXPECT_THROW(sim.set_bonds({0, 1}, {1}), Error);      // counts differ
-  EXPECT_THROW(sim.set_bonds({0}, {0}), Error);         // self bond
-  EXPECT_THROW(sim.set_bonds({0}, {1}, {1.5}), Error);  // factor > 1
-  EXPECT_THROW(sim.set_bonds({0, 1}, {1, 0}), Error);   // the same bond twice
-  EXPECT_THROW(sim.set_bonds({0}, {99999}), Error);     // no such particle
+  EXPECT_THROW(sim.set_bonds({0, 1}, {1}), Error);          // counts differ
+  EXPECT_THROW(sim.set_bonds({0}, {0}), Error);             // self bond
+  EXPECT_THROW(sim.set_bonds({0}, {1}, {1.5}), Error);      // factor > 1
+  EXPECT_THROW(sim.set_bonds({0}, {1}, {}, {0.0}), Error);  // strength factor not > 0
+  EXPECT_THROW(sim.set_bonds({0, 1}, {1, 0}), Error);       // the same bond twice
+  EXPECT_THROW(sim.set_bonds({0}, {99999}), Error);         // no such particle
+}
+
+// A strength factor s on a bond scales its tensile strength: two disks pulled apart at a
+// constant speed break apart when the bond's tension Kn·δ first exceeds s·Fn_max, i.e. at
+// the stretch s·Fn_max/Kn (to within one step of stretch), for s below and above 1.
+TEST(EccBonds, StrengthFactorScalesTheBreakingStretch) {
+  const Material m = c1_material(true);
+  for (const double s : {0.4, 1.0, 1.7}) {
+    Simulation sim(2, Settings{.dt = 1e-9, .contact_detection = false});
+    const int mat = sim.add_material(m);
+    sim.add_particle({0, 0, 0}, 0.5e-3, mat);
+    sim.add_particle({1e-3, 0, 0}, 0.5e-3, mat);
+    sim.add_to_group({0}, "left");
+    sim.add_to_group({1}, "right");
+    sim.fix("left", kXY);
+    const double v = 0.05;  // m/s: 5e-11 m of stretch per step
+    sim.prescribe_velocity("right", {v, 0, 0}, kXY);
+    sim.set_bonds({0}, {1}, {}, {s});
+    sim.initialise();
+    const double stretch = s * m.tensile_strength / m.kn;
+    std::int64_t steps = 0;
+    while (sim.broken_count() == 0 && steps < 100000) sim.run(1), ++steps;
+    ASSERT_EQ(sim.broken_count(dem::BreakMode::Tension), 1u) << "s = " << s;
+    EXPECT_NEAR(double(steps) * v * sim.dt(), stretch, 2 * v * sim.dt()) << "s = " << s;
+  }
 }

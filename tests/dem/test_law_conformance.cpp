@@ -152,12 +152,13 @@ dem::detail::BondCases make_cases(Rng& r, const Material& m, int dim, int rest, 
   cs.energy = energy;
   cs.dt = 1e-8 * r.uniform(0.5, 2);
   const double d = 1e-3;
-  const double fn_max = std::isfinite(m.tensile_strength) ? m.tensile_strength : 1e4;
-  const double fs0 = std::isfinite(m.shear_strength) ? m.shear_strength : 3e4;
+  const double fn_max0 = std::isfinite(m.tensile_strength) ? m.tensile_strength : 1e4;
+  const double fs00 = std::isfinite(m.shear_strength) ? m.shear_strength : 3e4;
   for (std::size_t i = 0; i < n; ++i) {
     const double rp = rest == 1 ? 0.5 * d : r.uniform(0.4, 0.6) * d;
     const double rj = rest == 1 ? 0.5 * d : r.uniform(0.4, 0.6) * d;
     const double r0 = r.uniform(0.8, 1.2) * d, kf = r.coin() ? 1.0 : r.uniform(0.3, 1.0);
+    const double sf = r.coin() ? 1.0 : r.uniform(0.5, 1.5);  // a spread of bond strengths
     const double l0 = rest == 2 ? r0 : rp + rj;
     // the state: intact (most), broken in tension or shear with random flags
     std::uint8_t st = ps::kIntact;
@@ -169,6 +170,9 @@ dem::detail::BondCases make_cases(Rng& r, const Material& m, int dim, int rest, 
     }
     const bool intact = st == ps::kIntact;
     const double kn = m.kn * (intact && rest == 2 ? kf : 1.0), ks = m.ks * (intact && rest == 2 ? kf : 1.0);
+    // this bond's strengths (the law scales them by sf where it has strengths to scale)
+    const double fn_max = fn_max0 * (intact && rest == 2 ? sf : 1.0),
+                 fs0 = fs00 * (intact && rest == 2 ? sf : 1.0);
     // normal overlap: intact near the tensile limit or in compression; broken touching or open
     double un;
     if (intact)
@@ -220,10 +224,11 @@ dem::detail::BondCases make_cases(Rng& r, const Material& m, int dim, int rest, 
     cs.rj.push_back(rj);
     cs.r0.push_back(r0);
     cs.kf.push_back(kf);
+    cs.sf.push_back(sf);
     cs.st.push_back(st);
     cs.us.push_back(us);
   }
-  if (rest != 2) cs.r0.clear(), cs.kf.clear();
+  if (rest != 2) cs.r0.clear(), cs.kf.clear(), cs.sf.clear();
   return cs;
 }
 

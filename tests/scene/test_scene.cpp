@@ -737,3 +737,51 @@ TEST(SceneLoads, RadialLoadSharedByAGroupPushesAwayFromTheCentre) {
     EXPECT_NEAR(total, 2e5 * (n - double(at_centre)) / n, 1e-9 * 2e5);
   }
 }
+
+// ---- a spread of bond strengths ----------------------------------------------------------------
+
+// The strength factors have mean 1 and the coefficient of variation asked for (20,000
+// draws: the sample mean within 1 %, the sample CoV within 3 % of its value), are all
+// positive, and are the same for the same seed and different for another.
+TEST(SceneRegions, StrengthFactorsHaveTheirMeanAndSpreadAndFollowTheSeed) {
+  using strata::scene::StrengthSpread;
+  for (const auto spread : {StrengthSpread::Normal, StrengthSpread::Weibull})
+    for (const double cov : {0.1, 0.3}) {
+      const auto f = strata::scene::strength_factors(spread, cov, 20000, 42);
+      double sum = 0, sum2 = 0, lowest = 1;
+      for (double x : f) sum += x, sum2 += x * x, lowest = std::min(lowest, x);
+      const double mean = sum / double(f.size());
+      const double sd = std::sqrt(sum2 / double(f.size()) - mean * mean);
+      EXPECT_NEAR(mean, 1.0, 0.01) << to_string(spread) << " " << cov;
+      EXPECT_NEAR(sd / mean / cov, 1.0, 0.03) << to_string(spread) << " " << cov;
+      EXPECT_GT(lowest, 0.0);
+      EXPECT_EQ(f, strata::scene::strength_factors(spread, cov, 20000, 42));
+      EXPECT_NE(f, strata::scene::strength_factors(spread, cov, 20000, 43));
+    }
+  EXPECT_EQ(strata::scene::strength_factors(StrengthSpread::None, 0.2, 3, 1), std::vector<double>(3, 1.0));
+  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, 0.03]\nstrength_spread = \"weibull\"")),
+            "scene.toml:16:19: strength_spread = \"weibull\" needs strength_cov > 0 (the coefficient of "
+            "variation of the bond strengths, e.g. 0.2)");
+}
+
+// A region with a spread of strengths starts to crack earlier than the same region without
+// one: under the same slow compression, the weakest bonds (factors well below 1) break
+// first, and so the first break comes at a smaller platen displacement.
+TEST(SceneRegions, ASpreadOfStrengthsBreaksTheWeakestBondsFirst) {
+  auto first_break = [](const std::string& extra) {
+    const std::string text = edit(
+        "size = [0.03, 0.03]", "size = [0.03, 0.03]\n" + extra,
+        edit("[solver]",
+             "[[boundary]]\ngroup = \"top\"\ntype = \"velocity\"\naxes = [\"y\"]\nvelocity = [0.0, -0.5]\n\n"
+             "[solver]",
+             edit("ks = 2.4e10", "ks = 2.4e10\ntensile_strength = 1.25e4\nshear_strength = 3.7e4")));
+    const Scene sc = strata::scene::parse(text, "scene.toml", {});
+    strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
+    while (m.sim().broken_count() == 0 && m.step_count() < 200000) m.advance(100);
+    return m.step_count();
+  };
+  const auto plain = first_break("");
+  const auto spread = first_break("strength_spread = \"normal\"\nstrength_cov = 0.3");
+  ASSERT_LT(plain, 200000) << "nothing broke";
+  EXPECT_LT(double(spread), 0.8 * double(plain));
+}

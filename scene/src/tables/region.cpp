@@ -13,6 +13,8 @@ const Word<RegionShape> kShape[] = {{"box", RegionShape::Box},
 const Word<RegionEccentricity> kEccentricity[] = {{"none", RegionEccentricity::None},
                                                   {"cube", RegionEccentricity::Cube},
                                                   {"sphere", RegionEccentricity::Sphere}};
+const Word<StrengthSpread> kSpread[] = {
+    {"none", StrengthSpread::None}, {"normal", StrengthSpread::Normal}, {"weibull", StrengthSpread::Weibull}};
 const Word<LengthUnit> kUnit[] = {{"m", LengthUnit::Metre},
                                   {"cm", LengthUnit::Centimetre},
                                   {"mm", LengthUnit::Millimetre},
@@ -117,6 +119,21 @@ TableSpec region_spec() {
               .le(1)
               .def("1.0")
               .doc("γ: stiffness factor of the weakened bonds, k -> γ·k (Zhao et al. 2021 use 0.001)."),
+          K("strength_spread", Choice)
+              .choices(words(kSpread))
+              .def(R"("none")")
+              .doc("A statistical spread of bond strength: each bond's tensile and shear strengths are "
+                   "multiplied by one factor drawn for it, with mean 1 and coefficient of variation "
+                   "strength_cov, from a normal distribution (cut at zero: drawn again below 1e-3) or a "
+                   "Weibull distribution (its modulus follows from strength_cov: 0.1 gives 12.2, 0.3 "
+                   "gives 3.7). The factors are drawn in bond order from the scene's seed, so a run is "
+                   "reproducible. The region is then bonded within itself only, as an eccentric one."),
+          K("strength_cov", Real)
+              .ge(0)
+              .le(1)
+              .def("0.0")
+              .doc("Coefficient of variation of the bond strength factors (standard deviation over "
+                   "mean); required above 0 with strength_spread."),
       }};
 }
 
@@ -145,6 +162,8 @@ RegionTable read_region(const Table& t) {
   read("ra", r.ra);
   read("rc", r.rc);
   read("gamma", r.gamma);
+  read("strength_spread", r.strength_spread, kSpread);
+  read("strength_cov", r.strength_cov);
   read.done();
   return r;
 }
@@ -155,6 +174,7 @@ namespace strata::scene {
 std::string_view to_string(RegionKind v) { return tables::word_of(tables::kKind, v); }
 std::string_view to_string(RegionShape v) { return tables::word_of(tables::kShape, v); }
 std::string_view to_string(RegionEccentricity v) { return tables::word_of(tables::kEccentricity, v); }
+std::string_view to_string(StrengthSpread v) { return tables::word_of(tables::kSpread, v); }
 double metres(LengthUnit unit) {
   switch (unit) {
     case LengthUnit::Centimetre:

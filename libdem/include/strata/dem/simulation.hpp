@@ -118,10 +118,11 @@ class Simulation {
   /// empty: all 1). A broken bond pushes back (material stiffness, friction) when shorter
   /// than its rest length. Unbonded neighbours of a strongly eccentric lattice may overlap
   /// at the start (3D: Ra > 0.41; 2D: Ra > 0.73): turn contact detection off for such
-  /// models. Call it once, before initialise(), instead of bond_touching_pairs(). Costs 16
-  /// bytes per bond.
+  /// models. While intact, bond b's strengths (for the solid-lattice law Fn_max and Fs0) are
+  /// scaled by strength[b] > 0 (a spread of bond strengths; empty: all 1). Call it once,
+  /// before initialise(), instead of bond_touching_pairs(). Costs 24 bytes per bond.
   void set_bonds(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& second,
-                 const std::vector<double>& factor = {});
+                 const std::vector<double>& factor = {}, const std::vector<double>& strength = {});
   /// Sets the velocity of particle `id` (initial conditions).
   void set_velocity(std::size_t id, std::array<double, 3> v);
 

@@ -88,6 +88,8 @@ enum class RegionKind { Particles, Fem };
 enum class RegionShape { Box, Disk, Sphere, Polygon, File };
 /// [[region]] eccentricity (ECC4D, Zhao et al. 2021): none, Type A (cube) or Type B (sphere).
 enum class RegionEccentricity { None, Cube, Sphere };
+/// [[region]] strength_spread: bond strengths all alike, or drawn per bond.
+enum class StrengthSpread { None, Normal, Weibull };
 /// [[region]] unit: the length unit of a geometry file's coordinates.
 enum class LengthUnit { Metre, Centimetre, Millimetre, Kilometre };
 /// Metres in one `unit`.
@@ -122,6 +124,7 @@ enum class SolverCoupling { Serial, Parallel };
 std::string_view to_string(RegionKind v);
 std::string_view to_string(RegionShape v);
 std::string_view to_string(RegionEccentricity v);
+std::string_view to_string(StrengthSpread v);
 std::string_view to_string(GroupSelect v);
 std::string_view to_string(BoundaryType v);
 std::string_view to_string(LoadPer v);
@@ -181,6 +184,8 @@ struct RegionTable {
   Located<double> min_boundary_distance;  ///< m
   Located<RegionEccentricity> eccentricity;
   Located<double> ra, rc, gamma;
+  Located<StrengthSpread> strength_spread;
+  Located<double> strength_cov;  ///< coefficient of variation of the bond strength factors
 };
 
 /// [[group]]: a named set of particles (or FEM nodes) picked from a region.

@@ -42,7 +42,17 @@ struct RegionSites {
   std::string material;
   bool eccentric = false;
   preprocess::BondList bonds;  ///< eccentric regions only: regular-lattice pairs, local indices
+  /// A spread of bond strengths ([[region]] strength_spread): the distribution, its
+  /// coefficient of variation and the seed its factors are drawn from.
+  StrengthSpread strength_spread = StrengthSpread::None;
+  double strength_cov = 0;
+  std::uint64_t strength_seed = 0;
 };
+
+/// Strength factors of `count` bonds, drawn in order: mean 1, coefficient of variation
+/// `cov`, normal (redrawn below 1e-3) or Weibull (modulus from cov), reproducible from `seed`.
+std::vector<double> strength_factors(StrengthSpread spread, double cov, std::size_t count,
+                                     std::uint64_t seed);
 
 /// One FEM region meshed (kind = "fem"): triangles (2D) or tetrahedra (3D).
 struct FemRegion {

@@ -26,7 +26,7 @@ inline constexpr std::size_t kChunk = 128;
 
 /// Bond pass pointers of one block (indexed by the block's bond position q).
 struct BondSpan {
-  const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf;
+  const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf, *sf;
   double *F0, *F1, *F2, *en, *us;
   const std::uint8_t* own;
   const std::uint32_t* j;
@@ -51,6 +51,7 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   const double* __restrict R = sp.R;
   const double* __restrict br0 = sp.r0;
   const double* __restrict bkf = sp.kf;
+  const double* __restrict bsf = sp.sf;
   const std::uint8_t* __restrict own = sp.own;
   const std::uint32_t* __restrict bj = sp.j;
   std::uint8_t* __restrict bst = sp.st;
@@ -124,7 +125,10 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
     b.un = g.un;
     for (int a = 0; a < kNs; ++a) b.us[a] = g.us[a];
     b.u2 = g.u2;
-    if constexpr (kRest == kPerBond) b.kf = bkf[q];  // 1 otherwise, which the compiler folds away
+    if constexpr (kRest == kPerBond) {  // 1 otherwise, which the compiler folds away
+      b.kf = bkf[q];
+      b.sf = bsf[q];
+    }
     const BondLaneResult<kNs> o = law.template lane<kNs, kBroken, kEnergy>(b);
     const bool fast = (J[i] < ee64) & o.done;
     SLOW[i] = !fast;

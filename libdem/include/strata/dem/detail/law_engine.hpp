@@ -50,9 +50,9 @@ struct BondCases {
   bool energy = true;  ///< the bond pass also computes energies (as on energy steps)
   std::vector<std::array<double, 3>> xp, xj, vp, vj;  ///< positions and velocities
   std::vector<double> rp, rj;                         ///< radii (all equal for rest = 1)
-  std::vector<double> r0, kf;                         ///< rest length and stiffness factor (rest = 2)
-  std::vector<std::uint8_t> st;                       ///< state byte (bond kinds only)
-  std::vector<std::array<double, 3>> us;              ///< stored Us (first 1 in 2D)
+  std::vector<double> r0, kf, sf;         ///< rest length, stiffness and strength factor (rest = 2)
+  std::vector<std::uint8_t> st;           ///< state byte (bond kinds only)
+  std::vector<std::array<double, 3>> us;  ///< stored Us (first 1 in 2D)
   std::size_t size() const { return xp.size(); }
 };
 

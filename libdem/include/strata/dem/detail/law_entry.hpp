@@ -43,7 +43,7 @@ BondResults reference_cases(const BondCases& cs) {
     double F[D];
     int broke = 0;
     const double e = Engine<D, Law>::template pair_force<true>(
-        X, V, rest, 0, 1, st, us, scaled ? law.scaled(cs.kf[i]) : law, cs.dt, F, broke);
+        X, V, rest, 0, 1, st, us, scaled ? bond_law(law, cs.kf[i], cs.sf[i]) : law, cs.dt, F, broke);
     for (int a = 0; a < D; ++a) r.force[i][a] = F[a];
     for (int a = 0; a < kNs; ++a) r.us[i][a] = us[a];
     r.st[i] = st;
@@ -76,7 +76,7 @@ BondResults batch_cases(const BondCases& cs) {
     V[a].assign(2 * n, 0.0);
     F[a].assign(n, 0.0);
   }
-  std::vector<double> R(2 * n), r0(cs.r0), kf(cs.kf), en(n, 0.0), us(n * kNs);
+  std::vector<double> R(2 * n), r0(cs.r0), kf(cs.kf), sf(cs.sf), en(n, 0.0), us(n * kNs);
   std::vector<std::uint32_t> j(n);
   std::vector<std::uint8_t> own(n), st(cs.st), slow(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -103,6 +103,7 @@ BondResults batch_cases(const BondCases& cs) {
                       R.data(),
                       cs.rest == 2 ? r0.data() + c0 : nullptr,
                       cs.rest == 2 ? kf.data() + c0 : nullptr,
+                      cs.rest == 2 ? sf.data() + c0 : nullptr,
                       F[0].data() + c0,
                       F[1].data() + c0,
                       F[D - 1].data() + c0,

@@ -28,13 +28,14 @@ struct PairList {
   std::vector<std::uint32_t> j;
   std::vector<std::uint8_t> st;
   std::vector<double> us;  // NS shear components per pair
-  // Bonds of eccentric lattices only (empty otherwise): rest length (the initial centre
-  // distance) and stiffness factor of each bond; both apply while the bond is intact.
-  std::vector<double> r0, kf;
+  // Bonds given as data only (Simulation::set_bonds; empty otherwise): rest length (the
+  // initial centre distance), stiffness factor and strength factor of each bond; all apply
+  // while the bond is intact.
+  std::vector<double> r0, kf, sf;
   std::size_t size() const { return j.size(); }
   std::size_t bytes() const {
     return off.capacity() * 4 + j.capacity() * 4 + st.capacity() +
-           (us.capacity() + r0.capacity() + kf.capacity()) * 8;
+           (us.capacity() + r0.capacity() + kf.capacity() + sf.capacity()) * 8;
   }
 };
 
@@ -169,8 +170,8 @@ struct ModelData {
     return L.r0.empty() ? rad[p] + rad[j] : L.r0[k];
   }
 
-  /// Whether pair k of L is an intact bond of an eccentric lattice, whose Kn and Ks are
-  /// scaled by its stiffness factor kf[k].
+  /// Whether pair k of L is an intact bond given as data, whose Kn and Ks are scaled by its
+  /// stiffness factor kf[k] and its strengths by its strength factor sf[k].
   bool scaled(const PairList& L, std::uint32_t k) const {
     return !L.kf.empty() && (L.st[k] & pair_state::kKindMask) == pair_state::kIntact;
   }

@@ -184,10 +184,10 @@ class Engine final : public LawEngine<D> {
   const Law& law_of(const ModelData<D>& m, std::size_t p, std::size_t q) const {
     return laws[static_cast<std::size_t>(m.mat[p]) * nmat + m.mat[q]];
   }
-  /// The law of pair k of L: the materials' law, with Kn and Ks scaled by an intact
-  /// eccentric-lattice bond's stiffness factor (k -> γ·k).
+  /// The law of pair k of L: the materials' law, for an intact bond given as data with its
+  /// stiffness factor (eccentric lattices: k -> γ·k) and its strength factor.
   Law law_for(const ModelData<D>& m, const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
-    return m.scaled(L, k) ? law_of(m, p, j).scaled(L.kf[k]) : law_of(m, p, j);
+    return m.scaled(L, k) ? bond_law(law_of(m, p, j), L.kf[k], L.sf[k]) : law_of(m, p, j);
   }
 
   /// Probes: fn(j, F, energy, state, us, is_contact) for every pair owned by p, evaluated
@@ -316,6 +316,7 @@ class Engine final : public LawEngine<D> {
                           m.rad.data(),
                           kRest == kPerBond ? m.bonds.r0.data() + k0 : nullptr,
                           kRest == kPerBond ? m.bonds.kf.data() + k0 : nullptr,
+                          kRest == kPerBond ? m.bonds.sf.data() + k0 : nullptr,
                           FB[0],
                           FB[1],
                           FB[D - 1],

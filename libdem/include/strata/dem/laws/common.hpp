@@ -32,6 +32,17 @@ struct PairStiffness {
   double ks = 0;
 };
 
+/// The law of one intact bond given as data (Simulation::set_bonds): stiffnesses scaled by
+/// its stiffness factor kf (`Law::scaled`) and, for a law with strengths to scale (a member
+/// `strengthened`), strengths by its strength factor sf. A factor of 1 changes no bit.
+template <class Law>
+Law bond_law(const Law& law, double kf, double sf) {
+  if constexpr (requires { law.strengthened(sf); })
+    return law.scaled(kf).strengthened(sf);
+  else
+    return law.scaled(kf);
+}
+
 /// One bond as the batch form (`lane`) sees it: the bond pass has done the geometry.
 template <int NS>
 struct BondLane {
@@ -39,7 +50,8 @@ struct BondLane {
   double un = 0;        ///< normal overlap Un (m), compression positive
   double us[NS]{};      ///< stored Us turned into the current tangent plane plus this step's increment
   double u2 = 0;        ///< |us|², summed over the components in order
-  double kf = 1;        ///< stiffness factor of an intact bond of an eccentric lattice (1 otherwise)
+  double kf = 1;        ///< stiffness factor of an intact bond given as data (1 otherwise)
+  double sf = 1;        ///< strength factor of an intact bond given as data (1 otherwise)
 };
 
 /// What the batch form returns for one bond.

@@ -37,6 +37,14 @@ struct SolidLatticeLaw {
     l.ks *= f;
     return l;
   }
+  /// The law with both bond strengths multiplied by f (a bond of a lattice with a spread of
+  /// strengths).
+  inline SolidLatticeLaw strengthened(double f) const {
+    SolidLatticeLaw l = *this;
+    l.fn_max *= f;
+    l.fs0 *= f;
+    return l;
+  }
   /// Tangent stiffnesses, for the critical time step.
   inline PairStiffness stiffness() const { return {kn, ks}; }
 
@@ -126,12 +134,13 @@ struct SolidLatticeLaw {
     const std::int64_t st0 = kBroken ? b.st : std::int64_t{kIntact};
     const double un = b.un, u2 = b.u2;
     const double kni = kn * b.kf, ksi = ks * b.kf;              // intact bond
+    const double fn_maxi = fn_max * b.sf, fs0i = fs0 * b.sf;    // its strengths
     const double mu_b = friction_strengthens_bonds ? mu : 0.0;  // intact-bond friction term
     // intact: Fn = Kn·Un, Fs = Ks·Us, and the two limits
     const bool intact = !kBroken || st0 == kIntact;
     const double fn_i = kni * un;
-    const double lim = fs0 + mu_b * std::max(fn_i, 0.0);  // = fs0 exactly when mu_b = 0
-    const bool holds = (fn_i >= -fn_max) & (u2 * (ksi * ksi) <= lim * lim);
+    const double lim = fs0i + mu_b * std::max(fn_i, 0.0);  // = fs0i exactly when mu_b = 0
+    const bool holds = (fn_i >= -fn_maxi) & (u2 * (ksi * ksi) <= lim * lim);
     BondLaneResult<NS> o;
     o.fn = fn_i;
     double kss = ksi;
