@@ -26,4 +26,18 @@ inline void add_lattice(Simulation& sim, const preprocess::Lattice& lat, int mat
   for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
 }
 
+/// Two 1 mm disks touching along x in material `m`: the left one (group "left") held, the
+/// right one (group "right") moved away at speed v (m/s). Not bonded and not initialised yet.
+inline Simulation pulled_pair(const Material& m, Settings settings, double v) {
+  Simulation sim(2, settings);
+  const int mat = sim.add_material(m);
+  sim.add_particle({0, 0, 0}, 0.5e-3, mat);
+  sim.add_particle({1e-3, 0, 0}, 0.5e-3, mat);
+  sim.add_to_group({0}, "left");
+  sim.add_to_group({1}, "right");
+  sim.fix("left", kXY);
+  sim.prescribe_velocity("right", {v, 0, 0}, kXY);
+  return sim;
+}
+
 }  // namespace strata::dem::test

@@ -135,14 +135,7 @@ TEST(BondLaw, PairInSimulationBreaksInTensionAtPredictedStep) {
   // k steps, so the bond breaks at the first k with Kn·V·dt·k > Fn_max. Within one step.
   const Material m = c1_material();
   const double dt = 1e-8, V = 0.5;
-  Simulation sim(2, Settings{.dt = dt, .contact_detection = true});
-  const int mat = sim.add_material(m);
-  sim.add_particle({0, 0, 0}, 0.5e-3, mat);
-  sim.add_particle({1e-3, 0, 0}, 0.5e-3, mat);
-  sim.add_to_group({0}, "left");
-  sim.add_to_group({1}, "right");
-  sim.fix("left", kXY);
-  sim.prescribe_velocity("right", {V, 0, 0}, kXY);
+  Simulation sim = pulled_pair(m, Settings{.dt = dt, .contact_detection = true}, V);
   sim.bond_touching_pairs();
   sim.initialise();
   // the bond's force at step k uses the position after k steps (x(k) = k·V·dt)

@@ -105,15 +105,8 @@ TEST(EccBonds, BadBondListsAreRefused) {
 TEST(EccBonds, StrengthFactorScalesTheBreakingStretch) {
   const Material m = c1_material(true);
   for (const double s : {0.4, 1.0, 1.7}) {
-    Simulation sim(2, Settings{.dt = 1e-9, .contact_detection = false});
-    const int mat = sim.add_material(m);
-    sim.add_particle({0, 0, 0}, 0.5e-3, mat);
-    sim.add_particle({1e-3, 0, 0}, 0.5e-3, mat);
-    sim.add_to_group({0}, "left");
-    sim.add_to_group({1}, "right");
-    sim.fix("left", kXY);
     const double v = 0.05;  // m/s: 5e-11 m of stretch per step
-    sim.prescribe_velocity("right", {v, 0, 0}, kXY);
+    Simulation sim = pulled_pair(m, Settings{.dt = 1e-9, .contact_detection = false}, v);
     sim.set_bonds({0}, {1}, {}, {s});
     sim.initialise();
     const double stretch = s * m.tensile_strength / m.kn;

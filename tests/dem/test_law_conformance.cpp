@@ -348,14 +348,7 @@ namespace {
 Simulation pulled_pair(const char* law, std::int64_t steps) {
   Material m = test::c1_material();
   m.law = law;
-  Simulation sim(2, Settings{.dt = 1e-8});
-  const int mat = sim.add_material(m);
-  sim.add_particle({0, 0, 0}, 0.5e-3, mat);
-  sim.add_particle({1e-3, 0, 0}, 0.5e-3, mat);
-  sim.add_to_group({0}, "left");
-  sim.add_to_group({1}, "right");
-  sim.fix("left", kXY);
-  sim.prescribe_velocity("right", {1.0, 0, 0}, kXY);
+  Simulation sim = test::pulled_pair(m, Settings{.dt = 1e-8}, 1.0);
   sim.bond_touching_pairs();
   sim.initialise();
   sim.run(steps);
