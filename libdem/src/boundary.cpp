@@ -7,7 +7,6 @@
 #include <strata/core/error.hpp>
 
 #include <algorithm>
-#include <cmath>
 
 namespace strata::dem::detail {
 
@@ -89,19 +88,12 @@ void Model<D>::set_load_directions() {
     std::fill(b.load_dir, b.load_dir + 3, 1.0);
     if (b.history < 0 || !histories[static_cast<std::size_t>(b.history)].radial) continue;
     const ForceHistory& h = histories[static_cast<std::size_t>(b.history)];
-    // start position (x0 is set by initialise(); before that the position is the start)
-    double r[3] = {0, 0, 0}, along = 0, len2 = 0, axis2 = 0;
-    for (int a = 0; a < D; ++a) {
-      const double x_start = x0[a].empty() ? x[a][b.index] : x0[a][b.index];
-      r[a] = x_start - h.centre[a];
-      along += r[a] * h.axis[a];
-      axis2 += h.axis[a] * h.axis[a];
-    }
-    if (axis2 > 0)
-      for (int a = 0; a < D; ++a) r[a] -= along / axis2 * h.axis[a];
-    for (int a = 0; a < D; ++a) len2 += r[a] * r[a];
-    const double len = std::sqrt(len2);
-    for (int a = 0; a < 3; ++a) b.load_dir[a] = a < D && len > 0 ? r[a] / len : 0.0;
+    // the start position: x0, set by initialise() after it resolved the conditions a first
+    // time (then the particle is still where it started) or loaded with a state
+    std::array<double, 3> start{};
+    for (int a = 0; a < D; ++a) start[a] = x0[a].empty() ? x[a][b.index] : x0[a][b.index];
+    const auto dir = Simulation::radial_direction(start, h.centre, h.axis, D);
+    std::copy(dir.begin(), dir.end(), b.load_dir);
   }
 }
 

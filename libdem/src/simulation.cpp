@@ -73,6 +73,14 @@ std::uint32_t existing_group(const detail::ModelBase& m, const std::string& name
 std::uint32_t group_of(Simulation& s, const std::string& name) {
   return static_cast<std::uint32_t>(s.group_index(name));
 }
+/// A value given per group set, per particle (internal order).
+template <typename T>
+std::vector<T> per_particle(const detail::ModelBase& m, const std::vector<T>& of_set) {
+  const auto& sets = m.particle_sets();
+  std::vector<T> out(sets.size());
+  for (std::size_t i = 0; i < sets.size(); ++i) out[i] = of_set[sets[i]];
+  return out;
+}
 }  // namespace
 
 std::vector<std::uint32_t> Simulation::group_members(const std::string& name) const {
@@ -81,19 +89,12 @@ std::vector<std::uint32_t> Simulation::group_members(const std::string& name) co
 std::vector<std::uint8_t> Simulation::in_groups(const std::vector<std::string>& names) const {
   std::vector<std::uint32_t> groups;
   for (const auto& name : names) groups.push_back(existing_group(*m_, name));
-  const auto in = m_->sets_holding(groups);
-  const auto& sets = m_->particle_sets();
-  std::vector<std::uint8_t> out(sets.size());
-  for (std::size_t i = 0; i < sets.size(); ++i) out[i] = in[sets[i]];
-  return out;
+  return per_particle(*m_, m_->sets_holding(groups));
 }
 std::vector<std::int32_t> Simulation::last_group() const {
   std::vector<std::int32_t> of_set;
   for (const auto& s : m_->group_sets) of_set.push_back(s.empty() ? -1 : static_cast<std::int32_t>(s.back()));
-  const auto& sets = m_->particle_sets();
-  std::vector<std::int32_t> out(sets.size());
-  for (std::size_t i = 0; i < sets.size(); ++i) out[i] = of_set[sets[i]];
-  return out;
+  return per_particle(*m_, of_set);
 }
 
 void Simulation::fix(const std::string& group, unsigned axes) {
@@ -150,6 +151,23 @@ void Simulation::radial_force_history(const std::string& group, std::vector<doub
   h.radial = true;
   h.centre = centre;
   h.axis = axis;
+}
+std::array<double, 3> Simulation::radial_direction(const std::array<double, 3>& x,
+                                                   const std::array<double, 3>& centre,
+                                                   const std::array<double, 3>& axis, int dim) {
+  double r[3] = {0, 0, 0}, along = 0, len2 = 0, axis2 = 0;
+  for (int a = 0; a < dim; ++a) {
+    r[a] = x[a] - centre[a];
+    along += r[a] * axis[a];
+    axis2 += axis[a] * axis[a];
+  }
+  if (axis2 > 0)
+    for (int a = 0; a < dim; ++a) r[a] -= along / axis2 * axis[a];
+  for (int a = 0; a < dim; ++a) len2 += r[a] * r[a];
+  const double len = std::sqrt(len2);
+  std::array<double, 3> out{};
+  for (int a = 0; a < dim; ++a) out[a] = len > 0 ? r[a] / len : 0.0;
+  return out;
 }
 void Simulation::add_wall(std::array<double, 3> point, std::array<double, 3> normal,
                           std::array<double, 3> velocity, double stiffness) {

@@ -185,22 +185,12 @@ void radial_fem_load(const LoadTable& l, const std::vector<std::uint32_t>& nodes
       for (int a = 0; a < 3; ++a) centre[a] += mesh.node(n)[a] / double(nodes.size());
   }
   const auto axis = vec3(l.axis);
-  const double axis2 = axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2];
   for (auto n : nodes) {
-    std::array<double, 3> r{};
-    double along = 0;
-    for (int a = 0; a < dim; ++a) {
-      r[a] = mesh.node(n)[a] - centre[a];
-      along += r[a] * axis[a];
-    }
-    if (axis2 > 0)
-      for (int a = 0; a < dim; ++a) r[a] -= along / axis2 * axis[a];
-    const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
-    if (!(len > 0)) continue;  // a node at the centre has no direction
-    for (int a = 0; a < dim; ++a) {
+    const auto dir = dem::Simulation::radial_direction(mesh.node(n), centre, axis, dim);
+    for (int a = 0; a < dim; ++a) {  // a node at the centre has no direction: no load
       HistoryComponent h;
       h.t = l.times;
-      for (double f : l.magnitudes.value) h.f.push_back(share * f * r[a] / len);
+      for (double f : l.magnitudes.value) h.f.push_back(share * f * dir[a]);
       if (std::all_of(h.f.begin(), h.f.end(), [](double f) { return f == 0; })) continue;
       solver.add_load(std::size_t(n) * std::size_t(dim) + std::size_t(a), h);
     }

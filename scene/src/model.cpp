@@ -231,7 +231,29 @@ std::vector<std::uint32_t> select(const GroupTable& g, const Filled& f) {
   return preprocess::in_box(l, vec3(g.box_min), vec3(g.box_max));
 }
 
-double platen_distance(const BuiltModel& m);
+/// The particles' current positions, indexed by particle id.
+std::vector<std::array<double, 3>> positions_by_id(const dem::Simulation& sim) {
+  const auto pos = sim.positions();
+  const auto ids = sim.ids();
+  std::vector<std::array<double, 3>> out(pos.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) out[ids[i]] = pos[i];
+  return out;
+}
+
+/// Mean coordinate `axis` of the particles with these ids.
+double mean_along(const std::vector<std::array<double, 3>>& by_id, const std::vector<std::uint32_t>& ids,
+                  int axis) {
+  double sum = 0;
+  for (auto id : ids) sum += by_id[id][axis];
+  return sum / double(ids.size());
+}
+
+/// Distance between the outer faces of the two platen groups along the probe axis.
+double platen_distance(const BuiltModel& m, const std::vector<std::array<double, 3>>& by_id) {
+  const PlatenProbe& p = m.platens;
+  return mean_along(by_id, m.sim().group_members(p.top), p.axis) -
+         mean_along(by_id, m.sim().group_members(p.bottom), p.axis) + 2 * p.radius;
+}
 
 /// Drops a lattice's rows and layers (the groups are selected): the sites keep positions only.
 void drop_rows(Lattice& l) {
@@ -566,15 +588,12 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
       std::vector<double> magnitudes = l.magnitudes;
       for (double& f : magnitudes) f /= sharers;
       std::array<double, 3> centre = vec3(l.center);
-      if (l.center->empty()) {  // the group's mean position (not running yet: positions by id)
-        const auto pos = sim.positions();
-        const auto ids = sim.ids();
-        std::vector<std::size_t> at(ids.size());
-        for (std::size_t i = 0; i < ids.size(); ++i) at[ids[i]] = i;
+      if (l.center->empty()) {  // the group's mean position
+        const auto by_id = positions_by_id(sim);
         const auto members = sim.group_members(l.group);
         centre = {0, 0, 0};
         for (const auto id : members)
-          for (int a = 0; a < 3; ++a) centre[a] += pos[at[id]][a] / double(members.size());
+          for (int a = 0; a < 3; ++a) centre[a] += by_id[id][a] / double(members.size());
       }
       sim.radial_force_history(l.group, l.times, std::move(magnitudes), centre, vec3(l.axis));
       continue;
@@ -654,7 +673,7 @@ void setup_platens(const Scene& sc, BuiltModel& m) {
     if (a != p.axis) p.area *= hi[a] - lo[a];
   if (dim == 2) p.area *= sc.scene.thickness;
   p.radius = rad.empty() ? 0 : rad[0];
-  p.length0 = platen_distance(m);
+  p.length0 = platen_distance(m, positions_by_id(sim));
   // the free sides: centres within 0.75 d of the outermost column's (a hexagonal lattice's
   // shorter rows start half a diameter in), platen rows left out
   const auto ids = sim.ids();
@@ -737,47 +756,21 @@ BuiltModel build_model(const Scene& sc, bool force) {
   return m;
 }
 
-namespace {
-/// Distance between the outer faces of the two platen groups along the probe axis.
-double platen_distance(const BuiltModel& m) {
-  const PlatenProbe& p = m.platens;
-  const auto pos = m.sim().positions();
-  const auto ids = m.sim().ids();
-  // ids() maps internal index -> id; build the inverse once per call (cheap next to a run).
-  std::vector<std::uint32_t> where(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = std::uint32_t(i);
-  auto mean = [&](const std::string& g) {
-    double sum = 0;
-    const auto members = m.sim().group_members(g);
-    for (auto id : members) sum += pos[where[id]][p.axis];
-    return sum / double(members.size());
-  };
-  return mean(p.top) - mean(p.bottom) + 2 * p.radius;
-}
-}  // namespace
-
 AxialState axial_state(const BuiltModel& m) {
   const PlatenProbe& p = m.platens;
   AxialState s;
   if (!p.enabled) return s;
-  s.strain = (p.length0 - platen_distance(m)) / p.length0;
+  const auto by_id = positions_by_id(m.sim());
+  s.strain = (p.length0 - platen_distance(m, by_id)) / p.length0;
   s.force_top = m.sim().group_force(p.top)[p.axis];
   s.force_bottom = m.sim().group_force(p.bottom)[p.axis];
   // Internal forces push the top platen up (+) and the bottom one down (-) in compression.
   s.stress = 0.5 * (s.force_top - s.force_bottom) / p.area;
   if (!p.sides.empty()) {
-    const auto pos = m.sim().positions();
-    const auto ids = m.sim().ids();
-    std::vector<std::uint32_t> where(ids.size());
-    for (std::size_t i = 0; i < ids.size(); ++i) where[ids[i]] = std::uint32_t(i);
-    auto mean = [&](const std::vector<std::uint32_t>& side, int a) {
-      double sum = 0;
-      for (auto id : side) sum += pos[where[id]][a];
-      return sum / double(side.size());
-    };
     for (const auto& side : p.sides)
       s.lateral_strain +=
-          (mean(side.high, side.axis) - mean(side.low, side.axis) - side.width0) / side.width0;
+          (mean_along(by_id, side.high, side.axis) - mean_along(by_id, side.low, side.axis) - side.width0) /
+          side.width0;
     s.lateral_strain /= double(p.sides.size());
   }
   return s;

@@ -164,6 +164,12 @@ class Simulation {
   void radial_force_history(const std::string& group, std::vector<double> times,
                             std::vector<double> magnitudes, std::array<double, 3> centre,
                             std::array<double, 3> axis = {0, 0, 0});
+  /// The unit vector a radial load pushes a point at `x` along (the first `dim` components
+  /// used): from `centre` to x, its component along `axis` removed (axis 0: none); zero for
+  /// a point at the centre (or on the axis).
+  static std::array<double, 3> radial_direction(const std::array<double, 3>& x,
+                                                const std::array<double, 3>& centre,
+                                                const std::array<double, 3>& axis, int dim);
   /// Drives the group's particles along the given axes from outside (coupling):
   /// they take the displacement and velocity given by set_kinematics() and move with that
   /// velocity until the next call, exerting their bond and contact forces on the others.
