@@ -1,4 +1,5 @@
-// The `strata` command line (CLI11): run, check, mesh, bench, render, report, compare, reference.
+// The `strata` command line (CLI11): run, check, mesh, bench, render, report, compare, calibrate,
+// reference.
 //
 // Exit status: 0 success, 1 the run failed, 2 bad usage or bad scene, 130/143 a run stopped by
 // SIGINT/SIGTERM (with a checkpoint).
@@ -244,6 +245,26 @@ int main(int argc, char** argv) {
       "The same sweeps run from scene files: strata check|run examples/02_metamaterial_chain/scene.toml,\n"
       "examples/04_coupled_wave/scene.toml ([coupled], docs/scene-reference.md).");
 
+  // ---- calibrate ----
+  SceneOptions cal;
+  auto* calibrate = app.add_subcommand(
+      "calibrate",
+      "Choose Kn, Ks, Fn_max and Fs0 that give a rock's E, nu, UCS and tensile strength, by running uniaxial "
+      "and Brazilian specimens");
+  calibrate->add_option("file", cal.scene, "Calibration file: a [calibrate] table (docs/scene-reference.md)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  calibrate
+      ->add_option("-o,--output", cal.output,
+                   "Directory for calibration.{md,json,csv}, the specimens and runs")
+      ->check(kDirectory);
+  calibrate->add_option("--set", cal.overrides, "Override a key: KEY=VALUE (repeatable)")->take_all();
+  calibrate->add_option("--threads", cal.threads, "Threads for parallel loops (0 = all)")
+      ->check(CLI::Range(0, par::kMaxThreads));
+  calibrate->footer(
+      "Example:\n  strata calibrate examples/07_calibration/granite_2d.toml -o out/granite_2d\n"
+      "  strata calibrate examples/07_calibration/granite_2d.toml --set calibrate.tolerance=0.05");
+
   // ---- compare ----
   cases::CompareOptions cmp;
   int cmp_threads = 1;
@@ -302,6 +323,7 @@ int main(int argc, char** argv) {
     }
     if (*render) return render_series_cmd(ropt);
     if (*compare) return compare_cmd(cmp, cmp_threads);
+    if (*calibrate) return calibrate_scene(cal);
     if (*report && rep.case_name == "wave") {
       wave.output = report->count("--output") ? rep.output : std::filesystem::path("out/wave");
       if (report_eta->count()) wave.etas = rep.etas;

@@ -2,6 +2,7 @@
 // print. The library builds, runs and writes; this file only shows it.
 #include "commands.hpp"
 
+#include "calibrate_cmd.hpp"
 #include "stop_signals.hpp"
 
 #include <string.h>
@@ -131,6 +132,11 @@ class TerminalObserver final : public scene::RunObserver {
 int check_scene(const SceneOptions& opt, bool json_out) {
   const scene::Scene sc = load_scene(opt);
   if (sc.coupled) return cases::check_coupled_scene(scene::require_build_parts(sc), json_out, opt.force);
+  if (sc.calibrate) {
+    STRATA_CHECK(!json_out, Input, "--json: {} is a calibration ([calibrate]); its check prints text",
+                 sc.file.string());
+    return check_calibration(sc);
+  }
   const scene::BuiltModel m = scene::build_model(sc, opt.force);
   const json j = scene::model_json(m, sc);
   if (json_out)
@@ -146,6 +152,10 @@ int mesh_scene(const SceneOptions& opt, bool json_out) {
                "{}: a coupled-chain scene ([coupled]) has no mesh to build; use 'strata check' for its "
                "stability numbers or 'strata run' for the sweep",
                sc.file.string());
+  STRATA_CHECK(
+      !sc.calibrate, Input,
+      "{}: a calibration ([calibrate]) builds its own specimens; use 'strata calibrate' (or 'strata run')",
+      sc.file.string());
   const json j = scene::mesh_report(sc, opt.output);
   if (json_out) {
     std::printf("%s\n", j.dump(2).c_str());
@@ -171,6 +181,11 @@ int mesh_scene(const SceneOptions& opt, bool json_out) {
   return 0;
 }
 
+int calibrate_scene(const SceneOptions& opt) {
+  const scene::Scene sc = load_scene(opt);
+  return calibrate_cmd(sc, opt.output);
+}
+
 int run_scene(const SceneOptions& opt) {
   // Validate and build everything, and check a checkpoint to restart from, before the first
   // byte is written.
@@ -180,6 +195,11 @@ int run_scene(const SceneOptions& opt) {
                  "--restart: {} is a coupled-chain scene ([coupled]); its sweep has no checkpoints",
                  sc.file.string());
     return cases::run_coupled_scene(scene::require_build_parts(sc), opt.output, opt.force, opt.threads);
+  }
+  if (sc.calibrate) {  // a calibration: its specimen runs, then its table
+    STRATA_CHECK(opt.restart.empty(), Input,
+                 "--restart: {} is a calibration ([calibrate]); it has no checkpoints", sc.file.string());
+    return calibrate_cmd(sc, opt.output);
   }
   scene::Run run(sc, {opt.output, opt.force, opt.restart});
   print_model(run.model_summary());

@@ -20,6 +20,8 @@ struct SceneOptions {
 /// `strata run`: the exit status (0; 128 + signal after SIGINT or SIGTERM, with a checkpoint
 /// and the current frame written).
 int run_scene(const SceneOptions& opt);
+/// `strata calibrate`: the calibration of a file with a [calibrate] table (exit status as run).
+int calibrate_scene(const SceneOptions& opt);
 /// `strata check`: validate, build and print what would run and the derived numbers.
 int check_scene(const SceneOptions& opt, bool json);
 /// `strata mesh`: fill the regions only and report.

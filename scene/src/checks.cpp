@@ -110,8 +110,42 @@ class KeyChecks {
                          duration, eta_max, dt_fem));
   }
 
+  /// Checks between the keys of [calibrate] and [scene].dimension.
+  void check_calibrate(const Tables& scene) {
+    const Table& c = scene.table("calibrate");
+    const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
+    const std::string& lattice = c.str("lattice");
+    if (lattice == "hex" && dim == 3)
+      report(c.where("lattice"), "lattice = \"hex\" is for 2D calibrations; in 3D use hcp or fcc (or auto)");
+    if ((lattice == "hcp" || lattice == "fcc") && dim == 2)
+      report(c.where("lattice"),
+             fmt::format("lattice = \"{}\" is for 3D calibrations; in 2D use hex (or auto)", lattice));
+    // Kn/Ks lattices: nu = (1 - r)/(3 + r) in 2D, (1 - r)/(5 + r) along z in 3D, r = Ks/Kn >= 0.
+    const double nu_max = dim == 2 ? 1.0 / 3.0 : 0.2;
+    if (c.real("poisson_ratio") > nu_max)
+      report(c.where("poisson_ratio"),
+             fmt::format("poisson_ratio = {} is above {}, the largest that bonds of normal and shear springs "
+                         "give {} (with Ks = 0); allowed: -1 < poisson_ratio <= {}",
+                         c.real("poisson_ratio"), dim == 2 ? "1/3" : "1/5",
+                         dim == 2 ? "a hexagonal lattice" : "a close packing along its stacking axis",
+                         dim == 2 ? "1/3" : "0.2"));
+    if (c.real("ucs") <= c.real("tensile_strength"))
+      report(c.where("ucs"),
+             fmt::format("ucs = {} Pa is not above tensile_strength = {} Pa; rocks are several "
+                         "times stronger in compression than in tension",
+                         c.real("ucs"), c.real("tensile_strength")));
+    const double w = c.real("specimen_width");
+    if (w > 0 && w < 10 * c.real("diameter"))
+      report(
+          c.where("specimen_width"),
+          fmt::format("specimen_width = {} m holds fewer than 10 particles of diameter {} m across; allowed: "
+                      "0 (40 diameters) or at least 10 diameters",
+                      w, c.real("diameter")));
+  }
+
   void run(const Tables& scene) {
     if (scene.coupled()) return check_coupled(scene);
+    if (scene.calibration()) return check_calibrate(scene);
     const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
     const auto materials = unique_names(scene, "material");
     const auto regions = unique_names(scene, "region");
@@ -157,11 +191,17 @@ class KeyChecks {
       if (shape == "box") need(region_spec, r, "size", "shape");
       if (shape == "disk" || shape == "sphere") {
         if (shape == "disk" && dim == 3)
-          report(r.where("shape"), "shape = \"disk\" is for 2D scenes; in 3D use \"sphere\"");
+          report(r.where("shape"), "shape = \"disk\" is for 2D scenes; in 3D use \"sphere\" or \"cylinder\"");
         if (shape == "sphere" && dim == 2)
           report(r.where("shape"), "shape = \"sphere\" is for 3D scenes; in 2D use \"disk\"");
         need(region_spec, r, "center", "shape");
         need(region_spec, r, "radius", "shape");
+      }
+      if (shape == "cylinder") {
+        if (dim == 2) report(r.where("shape"), "shape = \"cylinder\" is for 3D scenes; in 2D use \"disk\"");
+        need(region_spec, r, "center", "shape");
+        need(region_spec, r, "radius", "shape");
+        need(region_spec, r, "height", "shape");
       }
       if (shape == "polygon") {
         if (dim == 3)
@@ -276,6 +316,10 @@ class KeyChecks {
     if (probe.boolean("stress_strain")) {
       check_reference(probe, "top_group", group_what, groups, ", which stress_strain = true needs");
       check_reference(probe, "bottom_group", group_what, groups, ", which stress_strain = true needs");
+    } else if (probe.real("stop_after_peak") > 0) {
+      report(probe.where("stop_after_peak"),
+             "stop_after_peak needs the specimen's stress: set stress_strain = true (with top_group and "
+             "bottom_group), or leave stop_after_peak at 0");
     }
   }
 

@@ -342,43 +342,55 @@ class Loader {
       }
     }
 
-    // A coupled scene ([coupled]) describes the whole model: particle and mesh tables
-    // cannot be mixed with it, and of [output] only some keys apply.
-    const toml::node* coupled_node = root.get("coupled");
-    const bool coupled = coupled_node && coupled_node->is_table();
-    const auto& coupled_tables = coupled_scene_tables();
-    const auto& coupled_keys = coupled_output_keys();
-    const std::string coupled_at = coupled ? pos_of(*coupled_node).str() : "";
-    std::vector<std::string> coupled_besides;
-    for (const auto& name : coupled_tables)
-      if (name != "coupled") coupled_besides.push_back(bracket(*find_table(name)));
+    // A file with a job table ([coupled], [calibrate]) describes the whole job in it: the
+    // other tables cannot be mixed with it, and of [output] only some keys apply.
+    const JobTable* job = nullptr;
+    const toml::node* job_node = nullptr;
+    for (const JobTable& j : job_tables()) {
+      const toml::node* n = root.get(j.name);
+      if (!n || !n->is_table()) continue;
+      if (job) {
+        report(pos_of(*n), fmt::format("[{}] cannot be mixed with [{}] ({}): a file holds one of them",
+                                       j.name, job->name, pos_of(*job_node).str()));
+        continue;
+      }
+      job = &j, job_node = n;
+    }
+    const std::string job_at = job ? pos_of(*job_node).str() : "";
+    std::vector<std::string> job_besides;
+    if (job)
+      for (const auto& name : job->besides) job_besides.push_back(bracket(*find_table(name)));
+    auto job_allows = [&](const std::string& table) {
+      return table == job->name ||
+             std::find(job->besides.begin(), job->besides.end(), table) != job->besides.end();
+    };
 
     for (const TableSpec& spec : schema()) {
       const toml::node* node = root.get(spec.name);
       std::vector<Table>& out = scene.entries[spec.name];
-      if (spec.name == "coupled" && !coupled) continue;  // no entry: not a coupled scene
-      if (coupled &&
-          std::find(coupled_tables.begin(), coupled_tables.end(), spec.name) == coupled_tables.end()) {
+      const bool is_job_table = std::any_of(job_tables().begin(), job_tables().end(),
+                                            [&](const JobTable& j) { return j.name == spec.name; });
+      if (is_job_table && (!job || job->name != spec.name)) continue;  // no entry: not that kind of file
+      if (job && !job_allows(spec.name)) {
         if (node) {
           const toml::array* arr = node->as_array();
           report(arr && !arr->empty() ? pos_of((*arr)[0]) : pos_of(*node),
-                 fmt::format("{} cannot be mixed with [coupled] ({}): a coupled scene describes the "
-                             "whole model in [coupled] and may hold besides only {} (keys {}); remove {} or "
-                             "[coupled]",
-                             bracket(spec), coupled_at, join(coupled_besides), join(coupled_keys),
-                             bracket(spec)));
+                 fmt::format("{} cannot be mixed with [{}] ({}): {} {} and may hold besides only {} "
+                             "(keys {}); remove {} or [{}]",
+                             bracket(spec), job->name, job_at, job->kind, job->what, join(job_besides),
+                             join(job->output_keys), bracket(spec), job->name));
         }
         if (!spec.array) out.push_back(check_table(spec, nullptr, spec.name, file_start(), 0));
         continue;
       }
-      if (coupled && spec.name == "output" && node && node->is_table()) {
+      if (job && spec.name == "output" && node && node->is_table()) {
         for (auto&& [k, v] : *node->as_table()) {
           if (!find_key(spec, k.str()) ||
-              std::find(coupled_keys.begin(), coupled_keys.end(), k.str()) != coupled_keys.end())
+              std::find(job->output_keys.begin(), job->output_keys.end(), k.str()) != job->output_keys.end())
             continue;  // unknown keys are reported by check_table
-          report(pos_of(k, v), fmt::format("output.{} does not apply to a coupled scene ([coupled] at "
-                                           "{}): its [output] takes only {}",
-                                           k.str(), coupled_at, join(coupled_keys)));
+          report(pos_of(k, v),
+                 fmt::format("output.{} does not apply to {} ([{}] at {}): its [output] takes only {}",
+                             k.str(), job->kind, job->name, job_at, join(job->output_keys)));
         }
       }
       if (spec.array) {

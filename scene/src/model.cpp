@@ -36,6 +36,12 @@ Shape shape_of(const RegionTable& r, int dim) {
     s.kind = kind == RegionShape::Disk ? Shape::Kind::Disk : Shape::Kind::Sphere;
     s.center = vec3(r.center);
     s.radius = r.radius;
+  } else if (kind == RegionShape::Cylinder) {  // a disk extruded along z
+    s.kind = Shape::Kind::Disk;
+    s.center = vec3(r.center);
+    s.radius = r.radius;
+    s.z_min = s.center[2] - 0.5 * r.height;
+    s.z_max = s.center[2] + 0.5 * r.height;
   } else if (kind == RegionShape::Polygon) {
     s.kind = Shape::Kind::Polygon;
     for (const auto& p : r.points.value) s.polygon.push_back({p[0], p[1]});
@@ -698,6 +704,9 @@ void setup_platens(const Scene& sc, BuiltModel& m) {
 }
 
 BuiltModel build_model(const Scene& sc, bool force) {
+  STRATA_CHECK(!sc.calibrate, Input,
+               "{}: a calibration ([calibrate]) builds its own specimens; run it with 'strata calibrate'",
+               sc.file.string());
   require_build_parts(sc);  // `strata check` as `strata run`: a key this build cannot serve, at its line
   const auto t0 = std::chrono::steady_clock::now();
   const SolverTable& solver = sc.solver;

@@ -115,6 +115,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
     result.written = out.written();
     return result;
   };
+  const double stop_after_peak = sc.probe.stop_after_peak;
   std::int64_t max_chunk = 4;  // steps per run() call, adapted to ~0.25 s so signals are seen soon
   try {
     for (;;) {
@@ -128,6 +129,12 @@ RunResult Run::Impl::execute(RunObserver& observer) {
         }
       }
       if (s >= steps) break;
+      if (stop_after_peak > 0 && out.specimen_failed(m, stop_after_peak)) {
+        // The specimen has failed: the last frame and the summary say where, as at the end.
+        if (out.last_frame_step() != s * q) out.frame(m);
+        out.stopped_after_peak(s * q);
+        break;
+      }
       if (const int reason = observer.stop_requested()) {
         // Interrupted: the current frame, a checkpoint, what is known so far; then stop.
         if (out.last_frame_step() != s * q) {

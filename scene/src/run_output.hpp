@@ -171,6 +171,17 @@ class RunOutput {
     probes_->row(row);
   }
 
+  /// Whether the specimen has failed: a bond has broken and the axial stress of the last probe
+  /// row has fallen below `fraction` of its peak so far, after the peak ([probe] stop_after_peak).
+  bool specimen_failed(const BuiltModel& m, double fraction) const {
+    if (!(fraction > 0) || stress_.empty() || m.sim().breaks().empty()) return false;
+    const double peak = *std::max_element(stress_.begin(), stress_.end());
+    return peak > 0 && stress_.back() < fraction * peak;
+  }
+
+  /// The run stopped at `step` because the specimen had failed (summary.json says so).
+  void stopped_after_peak(std::int64_t step) { stopped_after_peak_ = step; }
+
   /// Mean displacement of each gauge group (its particles and FEM nodes together), `dim`
   /// components per gauge.
   std::vector<double> gauge_displacements(const BuiltModel& m) const {
@@ -294,6 +305,7 @@ class RunOutput {
     summary["particle_steps_per_s"] =
         run_seconds > 0 ? n * double(m.step_count() - first_step_) / run_seconds : 0.0;
     if (first_step_ > 0) summary["restarted_at_step"] = first_step_;
+    if (stopped_after_peak_ >= 0) summary["stopped_after_peak_at_step"] = stopped_after_peak_;
     summary["state_hash"] = fmt::format("{:016x}", m.state_hash());
     if (particles_on_) {
       summary["broken_tension"] = m.sim().broken_count(dem::BreakMode::Tension);
@@ -454,6 +466,7 @@ class RunOutput {
   std::vector<fs::path> written_;
   std::int64_t last_frame_step_ = -1;
   std::int64_t first_step_ = 0;
+  std::int64_t stopped_after_peak_ = -1;  ///< the step a failed specimen stopped the run at
 };
 
 }  // namespace strata::scene

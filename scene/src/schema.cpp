@@ -17,7 +17,7 @@ namespace {
 std::vector<TableSpec> make_schema() {
   using namespace tables;
   return {scene_spec(), material_spec(), region_spec(), group_spec(), boundary_spec(), load_spec(),
-          wall_spec(),  solver_spec(),   output_spec(), probe_spec(), coupled_spec()};
+          wall_spec(),  solver_spec(),   output_spec(), probe_spec(), coupled_spec(),  calibrate_spec()};
 }
 
 }  // namespace
@@ -27,14 +27,19 @@ const std::vector<TableSpec>& schema() {
   return s;
 }
 
-const std::vector<std::string>& coupled_scene_tables() {
-  static const std::vector<std::string> t{"coupled", "output"};
+const std::vector<JobTable>& job_tables() {
+  static const std::vector<JobTable> t{
+      {"coupled",
+       {"output"},
+       {"directory", "render"},
+       "a coupled scene",
+       "describes the whole model in [coupled]"},
+      {"calibrate",
+       {"scene", "output"},
+       {"directory", "render"},
+       "a calibration",
+       "describes its targets and lattice in [calibrate] and builds its own specimens"}};
   return t;
-}
-
-const std::vector<std::string>& coupled_output_keys() {
-  static const std::vector<std::string> k{"directory", "render"};
-  return k;
 }
 
 std::vector<std::string> coupled_case_keys(const std::string& case_name) {

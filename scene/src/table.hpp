@@ -65,7 +65,8 @@ class Table {
 };
 
 /// Every table of a scene by name: a plain table as one entry, an array of tables as its
-/// entries in file order. [coupled] has an entry only in a coupled scene.
+/// entries in file order. [coupled] has an entry only in a coupled scene, [calibrate] only
+/// in a calibration.
 struct Tables {
   std::map<std::string, std::vector<Table>> entries;
 
@@ -74,6 +75,7 @@ struct Tables {
   /// The entries of an array of tables (possibly empty).
   const std::vector<Table>& tables(const std::string& name) const;
   bool coupled() const { return !tables("coupled").empty(); }
+  bool calibration() const { return !tables("calibrate").empty(); }
 };
 
 /// Reports one problem of a scene at a position (the loader throws the first in file order).

@@ -349,14 +349,15 @@ TEST(SceneErrors, FourAcceptanceErrorsHaveExactPositionsAndDifferentMessages) {
 // ---- other errors ----------------------------------------------------------------------------
 
 TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
-  EXPECT_EQ(
-      error_of(edit("[solver]", "[solvr]")),
-      "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
-      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
+  EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
+            "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
+            "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], "
+            "[coupled], [calibrate])");
   EXPECT_EQ(
       error_of(edit("[[group]]", "[[groups]]")),
       "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
-      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled], "
+      "[calibrate])");
 }
 
 TEST(SceneErrors, TableWrittenWithTheWrongBrackets) {
@@ -490,8 +491,8 @@ TEST(SceneErrors, ShapeAndTypeDependentKeys) {
       "scene.toml:11:1: [[region]] 'specimen' needs 'size' for shape = \"box\" (extent of a box along each "
       "axis)");
   EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "shape = \"disk\"\ncenter = [0, 0]")),
-            "scene.toml:15:9: [[region]] 'specimen' needs 'radius' for shape = \"disk\" (radius of a disk or "
-            "sphere)");
+            "scene.toml:15:9: [[region]] 'specimen' needs 'radius' for shape = \"disk\" (radius of a disk, "
+            "sphere or cylinder)");
   EXPECT_EQ(
       error_of(edit("diameter = 0.001\n", "")),
       "scene.toml:11:1: [[region]] 'specimen' needs 'diameter' for kind = \"particles\" (particle diameter "
@@ -547,7 +548,8 @@ TEST(SceneOverrides, ErrorsPointAtTheOverride) {
   EXPECT_EQ(
       error_of(kBase, {"solvr.dt=1"}),
       "--set solvr.dt=1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
-      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled])");
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled], "
+      "[calibrate])");
   EXPECT_EQ(
       error_of(kBase, {"output.render_field=dmage"}),
       "--set output.render_field=dmage: render_field = \"dmage\" must be one of displacement, velocity, "

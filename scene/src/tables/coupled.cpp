@@ -6,7 +6,7 @@ namespace strata::scene::tables {
 
 TableSpec coupled_spec() {
   // A coupled scene: the loader allows beside it only the tables and [output] keys of
-  // coupled_scene_tables() and coupled_output_keys() (schema.cpp), and of [coupled] only the
+  // its entry of job_tables() (schema.cpp), and of [coupled] only the
   // keys whose cases() hold its case; checks between these keys (keys a case needs, duration
   // against η·dt_DEM) are in loader.cpp, stability (it needs the model) in
   // cases/src/chain_report.cpp and cases/src/wave_report.cpp.

@@ -51,6 +51,7 @@ void describe(const Tables& t, Scene& sc) {
   sc.loads = read_all(t, "load", read_load);
   sc.walls = read_all(t, "wall", read_wall);
   if (t.coupled()) sc.coupled = read_coupled(t.table("coupled"));
+  if (t.calibration()) sc.calibrate = read_calibrate(t.table("calibrate"));
   sc.fingerprint = fingerprint_of(t);
 }
 

@@ -22,6 +22,13 @@ TableSpec probe_spec() {
               .def(R"("bottom")")
               .doc("The [[group]] (or [[region]]) at the lower end of the specimen (stress_strain)."),
           K("axis", Choice).choices({"x", "y", "z"}).def(R"("y")").doc("Loading axis of stress_strain."),
+          K("stop_after_peak", Real)
+              .ge(0)
+              .lt(1)
+              .def("0.0")
+              .doc("stress_strain: stop the run once bonds have broken and the axial stress has fallen "
+                   "below this fraction of its peak (the specimen has failed), as a laboratory test stops "
+                   "after the peak; summary.json gives the step. 0: run every step."),
           K("energy", Bool)
               .def("true")
               .doc("Record the kinetic energy, the elastic energy of bonds and contacts, and the work "
@@ -45,6 +52,7 @@ ProbeTable read_probe(const Table& t) {
   read("top_group", p.top_group);
   read("bottom_group", p.bottom_group);
   read("axis", p.axis);
+  read("stop_after_peak", p.stop_after_peak);
   read("energy", p.energy);
   read("broken_bonds", p.broken_bonds);
   read("gauges", p.gauges);

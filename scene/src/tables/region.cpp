@@ -5,11 +5,9 @@
 namespace strata::scene::tables {
 namespace {
 const Word<RegionKind> kKind[] = {{"particles", RegionKind::Particles}, {"fem", RegionKind::Fem}};
-const Word<RegionShape> kShape[] = {{"box", RegionShape::Box},
-                                    {"disk", RegionShape::Disk},
-                                    {"sphere", RegionShape::Sphere},
-                                    {"polygon", RegionShape::Polygon},
-                                    {"file", RegionShape::File}};
+const Word<RegionShape> kShape[] = {{"box", RegionShape::Box},         {"disk", RegionShape::Disk},
+                                    {"sphere", RegionShape::Sphere},   {"cylinder", RegionShape::Cylinder},
+                                    {"polygon", RegionShape::Polygon}, {"file", RegionShape::File}};
 const Word<RegionEccentricity> kEccentricity[] = {{"none", RegionEccentricity::None},
                                                   {"cube", RegionEccentricity::Cube},
                                                   {"sphere", RegionEccentricity::Sphere}};
@@ -45,7 +43,8 @@ TableSpec region_spec() {
               .choices(words(kShape))
               .def(R"("box")")
               .doc("What the region fills: box (origin, size), disk in 2D or sphere in 3D (center, "
-                   "radius), polygon in 2D (points), or a geometry file (file)."),
+                   "radius), cylinder in 3D (center, radius, height: along z, such as a rock core or a "
+                   "Brazilian disc), polygon in 2D (points), or a geometry file (file)."),
           K("origin", RealList, "m").per_axis().def("[0.0, 0.0, 0.0]").doc("Lower corner of a box."),
           K("size", RealList, "m")
               .per_axis()
@@ -53,10 +52,16 @@ TableSpec region_spec() {
               .doc("Extent of a box along each axis; required when shape = \"box\"."),
           K("center", RealList, "m")
               .per_axis()
-              .doc("Centre of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
+              .doc("Centre of a disk, sphere or cylinder; required when shape = \"disk\", \"sphere\" or "
+                   "\"cylinder\"."),
           K("radius", Real, "m")
               .gt(0)
-              .doc("Radius of a disk or sphere; required when shape = \"disk\" or \"sphere\"."),
+              .doc("Radius of a disk, sphere or cylinder; required when shape = \"disk\", \"sphere\" or "
+                   "\"cylinder\"."),
+          K("height", Real, "m")
+              .gt(0)
+              .doc("Length of a cylinder along z, centred on its center; required when shape = "
+                   "\"cylinder\"."),
           K("points", RealTable, "m")
               .length(2, 2)
               .doc("Corners of a polygon in order, as [[x, y], ...] (at least 3); required when "
@@ -151,6 +156,7 @@ RegionTable read_region(const Table& t) {
   read("size", r.size);
   read("center", r.center);
   read("radius", r.radius);
+  read("height", r.height);
   read("points", r.points);
   read("file", r.file);
   read("unit", r.unit, kUnit);

@@ -232,4 +232,7 @@ ProbeTable read_probe(const Table& t);
 TableSpec coupled_spec();
 CoupledTable read_coupled(const Table& t);
 
+TableSpec calibrate_spec();
+CalibrateTable read_calibrate(const Table& t);
+
 }  // namespace strata::scene::tables

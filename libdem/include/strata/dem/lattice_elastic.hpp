@@ -39,4 +39,26 @@ inline LatticeElastic close_packed_isotropic_elastic(double kn, double ks, doubl
   return {2 * std::numbers::sqrt2 * kn * (2 * kn + 3 * ks) / (d * (4 * kn + ks)), (kn - ks) / (4 * kn + ks)};
 }
 
+/// Bond stiffnesses of a lattice.
+struct LatticeSprings {
+  double kn = 0, ks = 0;  ///< N/m
+};
+
+/// The inverse of hex_elastic: the Kn and Ks that give a 2D hexagonal lattice E·t (N/m) and
+/// ν, from Ks/Kn = (1−3ν)/(1+ν) and Kn = E·t·(3+Ks/Kn)/(2√3·(1+Ks/Kn)). Needs −1 < ν ≤ 1/3.
+inline LatticeSprings hex_springs(double e_t, double nu) {
+  const double r = (1 - 3 * nu) / (1 + nu);
+  const double kn = e_t * (3 + r) / (2 * std::numbers::sqrt3 * (1 + r));
+  return {kn, r * kn};
+}
+
+/// The inverse of close_packed_stacking_axis_elastic: the Kn and Ks that give a close packing
+/// of diameter d the E (Pa) and ν along its stacking axis, from Ks/Kn = (1−5ν)/(1+ν) and
+/// Kn = E·d·(5+Ks/Kn)/(6√2·(1+Ks/Kn)). Needs −1 < ν ≤ 1/5.
+inline LatticeSprings close_packed_stacking_axis_springs(double e, double nu, double d) {
+  const double r = (1 - 5 * nu) / (1 + nu);
+  const double kn = e * d * (5 + r) / (6 * std::numbers::sqrt2 * (1 + r));
+  return {kn, r * kn};
+}
+
 }  // namespace strata::dem

@@ -85,7 +85,7 @@ struct Located {
 /// [[region]] kind: bonded particles or finite elements.
 enum class RegionKind { Particles, Fem };
 /// [[region]] shape: what the region fills.
-enum class RegionShape { Box, Disk, Sphere, Polygon, File };
+enum class RegionShape { Box, Disk, Sphere, Cylinder, Polygon, File };
 /// [[region]] eccentricity (ECC4D, Zhao et al. 2021): none, Type A (cube) or Type B (sphere).
 enum class RegionEccentricity { None, Cube, Sphere };
 /// [[region]] strength_spread: bond strengths all alike, or drawn per bond.
@@ -174,7 +174,8 @@ struct RegionTable {
   Located<std::vector<double>> origin;               ///< m, one component per axis
   Located<std::vector<double>> size;                 ///< m; given for shape = box
   Located<std::vector<double>> center;               ///< m; given for shape = disk or sphere
-  Located<double> radius;                            ///< m; given for shape = disk or sphere
+  Located<double> radius;                            ///< m; given for shape = disk, sphere or cylinder
+  Located<double> height;                            ///< m; given for shape = cylinder (along z)
   Located<std::vector<std::vector<double>>> points;  ///< m, [[x, y], ...]; given for shape = polygon
   Located<std::filesystem::path> file;               ///< given for shape = file
   Located<LengthUnit> unit;                          ///< of the file's coordinates
@@ -282,7 +283,8 @@ struct ProbeTable {
   SourcePos pos;
   Located<bool> stress_strain;
   Located<std::string> top_group, bottom_group;
-  Located<std::string> axis;  ///< "x", "y" or "z"
+  Located<std::string> axis;        ///< "x", "y" or "z"
+  Located<double> stop_after_peak;  ///< fraction of the peak stress; 0: never
   Located<bool> energy, broken_bonds;
   Located<std::vector<std::string>> gauges;
 };
@@ -314,6 +316,26 @@ struct CoupledTable {
   Located<std::int64_t> series_eta;
   Located<std::int64_t> repeats;  ///< optional: the default depends on the case
   Located<std::int64_t> threads;  ///< optional: the default depends on the case
+};
+
+/// [calibrate]: targets and lattice of `strata calibrate`.
+struct CalibrateTable {
+  SourcePos pos;
+  Located<double> youngs_modulus;  ///< Pa
+  Located<double> poisson_ratio;
+  Located<double> ucs;               ///< Pa
+  Located<double> tensile_strength;  ///< Pa (Brazilian)
+  Located<double> density;           ///< kg/m^2 in 2D, kg/m^3 in 3D
+  Located<double> diameter;          ///< m
+  Located<std::string> lattice;      ///< "auto", "hex", "hcp" or "fcc"
+  Located<double> friction;
+  Located<bool> friction_strengthens_bonds;
+  Located<double> specimen_width;  ///< m; 0: 40 diameters
+  Located<double> damping_ratio;
+  Located<double> transits_to_peak;
+  Located<std::int64_t> iterations;
+  Located<double> tolerance;
+  Located<std::string> match;  ///< "ucs" or "tensile_strength"
 };
 
 }  // namespace strata::scene

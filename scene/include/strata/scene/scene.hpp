@@ -102,6 +102,9 @@ class Scene {
   /// particle or mesh tables ([scene], [[material]], [[region]], ...): of those only the
   /// defaults of the plain tables are here.
   std::optional<CoupledTable> coupled;
+  /// A calibration (`strata calibrate`) has a [calibrate] table, which describes the targets and
+  /// the lattice; of the other tables it may hold only [scene] and output.directory/render.
+  std::optional<CalibrateTable> calibrate;
 
   /// A hash of every value but those of [output] and solver.steps, solver.duration and
   /// solver.threads (and of the contents of the files the scene names): a checkpoint
@@ -109,10 +112,17 @@ class Scene {
   std::string fingerprint;
 };
 
-/// The tables a coupled-chain scene may hold besides [coupled], and of [output] the keys that
-/// apply to it (the sweep's files go to output.directory; output.render = false skips the plot).
-const std::vector<std::string>& coupled_scene_tables();
-const std::vector<std::string>& coupled_output_keys();
+/// A table that describes a whole job on its own ([coupled], [calibrate]): the other tables a
+/// file holding it may have, and of [output] the keys that apply (the job's files go to
+/// output.directory; output.render = false leaves out its plots and pictures).
+struct JobTable {
+  std::string name;
+  std::vector<std::string> besides;      ///< tables allowed besides it
+  std::vector<std::string> output_keys;  ///< [output] keys that apply
+  std::string kind;                      ///< "a coupled scene"
+  std::string what;                      ///< "describes the whole model in [coupled]"
+};
+const std::vector<JobTable>& job_tables();
 /// The [coupled] keys that apply to `case_name` (KeySpec::cases), in schema order.
 std::vector<std::string> coupled_case_keys(const std::string& case_name);
 
