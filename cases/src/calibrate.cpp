@@ -158,7 +158,8 @@ std::string specimen_scene(const scene::Scene& sc, const std::string& specimen, 
       axis_name);
   s += fmt::format("\n[output]\ndirectory = \"{}\"\n", specimen);
   if (final_run)
-    s += fmt::format("frames = 10\nframe_every_breaks = 0\nrender = {}\nrender_field = \"damage\"\n",
+    // frames spread over the whole strain: a run that stops at 60 % of its peak writes a third of them
+    s += fmt::format("frames = 30\nrender = {}\nrender_field = \"damage\"\n",
                      sc.output.render.value ? "true" : "false");
   else
     s += "frames = 0\nvtk = false\nrender = false\n";
@@ -312,10 +313,21 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
     } else {
       next = last.q * std::pow(ratio_target / last.ratio(), 1.5);
     }
-    next = std::clamp(next, std::max(q_lo, last.q / 8), std::min(q_hi, last.q * 8));
+    next = std::clamp(next, std::max(q_lo, last.q / 2), std::min(q_hi, last.q * 2));
     const bool seen = std::any_of(points.begin(), points.end(),
                                   [&](const Point& x) { return std::abs(std::log(x.q / next)) < 1e-3; });
     if (seen) break;  // at a bound already tried: the target ratio is out of reach
+    // Fn_max for the next q: the tensile strength per unit Fn_max also grows with q (shear
+    // takes part in the disc's failure); follow its trend on log q through the last two points
+    if (points.size() >= 2) {
+      const Point& a = points[points.size() - 2];
+      if (std::abs(std::log(last.q / a.q)) > 1e-3) {
+        const double trend = std::clamp(
+            (std::log(last.bts / last.fn) - std::log(a.bts / a.fn)) / (std::log(last.q) - std::log(a.q)), 0.0,
+            1.5);
+        fn *= std::pow(last.q / next, trend);
+      }
+    }
     q = next;
   }
   // the point nearest the target ratio; strengths scaled to meet one target
@@ -325,7 +337,12 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
   const double nearest =
       distance(*std::min_element(points.begin(), points.end(),
                                  [&](const Point& a, const Point& b) { return distance(a) < distance(b); }));
+  const bool above_all =
+      std::all_of(points.begin(), points.end(), [&](const Point& x) { return x.ratio() < ratio_target; });
+  const bool below_all =
+      std::all_of(points.begin(), points.end(), [&](const Point& x) { return x.ratio() > ratio_target; });
   const Point best = *std::min_element(points.begin(), points.end(), [&](const Point& a, const Point& b) {
+    if (!above_all && !below_all) return distance(a) < distance(b);
     const bool a_near = distance(a) <= nearest + tol, b_near = distance(b) <= nearest + tol;
     if (a_near != b_near) return a_near;
     return std::abs(std::log(a.q / 2)) < std::abs(std::log(b.q / 2));
@@ -369,17 +386,33 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
   md += row("UCS / tensile strength", ratio_target, res.best_ratio, 1, "{:.2f}");
   md += fmt::format("\nStrain at the UCS: {:.3g}.\n\n", res.peak_strain);
   if (!res.ratio_reached) {
-    double top = 0, top_q = 0;
-    for (const Point& x : points)
-      if (x.ratio() > top) top = x.ratio(), top_q = x.q;
-    md += fmt::format(
-        "The target ratio UCS/tensile strength = {:.2f} is out of this lattice's reach: the ratios "
-        "Fs0/Fn_max "
-        "tried (the search keeps them between {:g} and {:g}) gave at most {:.2f} (at Fs0/Fn_max = {:.3g}). "
-        "Bonded-particle models of equal particles are known to give too low a ratio (Potyondy & Cundall "
-        "2004); "
-        "strata kept a ratio near the largest and scaled the bond strengths to meet the {}.\n\n",
-        ratio_target, q_lo, q_hi, top, top_q, by_ucs ? "UCS" : "tensile strength");
+    const std::string met = by_ucs ? "UCS" : "tensile strength";
+    if (above_all || below_all) {
+      double edge = above_all ? 0.0 : INFINITY, edge_q = 0;
+      for (const Point& x : points)
+        if (above_all ? x.ratio() > edge : x.ratio() < edge) edge = x.ratio(), edge_q = x.q;
+      md += fmt::format(
+          "The target ratio UCS/tensile strength = {:.2f} is out of this lattice's reach: the ratios "
+          "Fs0/Fn_max "
+          "tried (the search keeps them between {:g} and {:g}) gave at {} {:.2f} (at Fs0/Fn_max = {:.3g}).{} "
+          "strata "
+          "kept a ratio near the {} and scaled the bond strengths to meet the {}.\n\n",
+          ratio_target, q_lo, q_hi, above_all ? "most" : "least", edge, edge_q,
+          above_all
+              ? " Bonded-particle models of equal particles are known to give too low a ratio (Potyondy & "
+                "Cundall 2004)."
+              : "",
+          above_all ? "largest" : "smallest", met);
+    } else {
+      md += fmt::format(
+          "The ratios UCS/tensile strength of the {} pairs tried lie on both sides of the target {:.2f} but "
+          "none came "
+          "within the tolerance: the ratio jumps with Fs0/Fn_max where the specimens' failure changes its "
+          "pattern. "
+          "strata kept the nearest ({:.2f}, at Fs0/Fn_max = {:.3g}) and scaled the bond strengths to meet "
+          "the {}.\n\n",
+          points.size(), ratio_target, best.ratio(), best.q, met);
+    }
   }
   md += fmt::format(
       "The [[material]] this gives (the specimens are uniaxial.toml and "

@@ -236,6 +236,72 @@ TEST(Examples, DoubleHoleBlastQuick) {
   EXPECT_NEAR(double(around[0]) / double(around[1]), 1.0, 0.02);
 }
 
+/// The number after "key": in the object "section" of a JSON text (NaN when absent).
+double number_in(const std::string& json, const std::string& section, const std::string& key) {
+  const auto at = json.find("\"" + section + "\":");
+  return at == std::string::npos ? NAN : summary_number(json.substr(at, json.find('}', at) - at), key);
+}
+
+// examples/07_calibration, quick variant (specimens 12 particles wide) with `strata calibrate`:
+//  - E and nu reach their targets within a quarter of the tolerance (5 %), as the elastic stage
+//    iterates for: 1.25 % and 0.0025;
+//  - the granite's UCS/tensile strength of 16.7 is out of reach of the 12-particle specimens
+//    (they give about 9.5), so the UCS (match = "ucs") is met within the tolerance and the
+//    report says the ratio was not reached;
+//  - the written uniaxial specimen, run again with `strata run`, gives the same peak stress to
+//    the last bit (the report is what the scene does);
+//  - a reachable ratio (tensile strength 21 MPa) is met with both strengths within 2x the
+//    tolerance (the strengths scale with the bonds' only approximately);
+//  - 3D: the cylinder and the thick disc of a close packing 10 particles wide, nu = 0.15.
+TEST(Examples, CalibrationQuick) {
+  const fs::path quick = kExamples / "07_calibration" / "quick.toml";
+  const fs::path out = kOut / "07_calibration";
+  fs::remove_all(out);
+  std::string log;
+  ASSERT_EQ(run("calibrate " + quick.string() + " -o " + out.string() + " --set output.render=false", &log),
+            0)
+      << log;
+  const std::string j = read_text(out / "calibration.json");
+  const double tol = 0.05;
+  EXPECT_NEAR(number_in(j, "achieved", "youngs_modulus_pa") / 60e9, 1.0, tol / 4);
+  EXPECT_NEAR(number_in(j, "achieved", "poisson_ratio"), 0.2, tol / 4 * 0.2);
+  EXPECT_NEAR(number_in(j, "achieved", "ucs_pa") / 200e6, 1.0, tol);
+  EXPECT_NE(j.find("\"ratio_reached\": false"), std::string::npos);
+  EXPECT_LT(number_in(j, "achieved", "ucs_over_tensile_strength"), 200.0 / 12.0);
+  EXPECT_NE(read_text(out / "calibration.md").find("out of this lattice's reach"), std::string::npos);
+
+  const fs::path rerun = kOut / "07_calibration_rerun";
+  fs::remove_all(rerun);
+  ASSERT_EQ(run("run " + (out / "uniaxial.toml").string() + " -o " + rerun.string(), &log), 0) << log;
+  EXPECT_EQ(summary_number(read_text(rerun / "summary.json"), "peak_stress_pa"),
+            number_in(j, "achieved", "ucs_pa"));
+
+  const fs::path reach = kOut / "07_calibration_reachable";
+  fs::remove_all(reach);
+  ASSERT_EQ(run("calibrate " + quick.string() + " -o " + reach.string() +
+                    " --set output.render=false --set calibrate.tensile_strength=21e6",
+                &log),
+            0)
+      << log;
+  const std::string r = read_text(reach / "calibration.json");
+  EXPECT_NE(r.find("\"ratio_reached\": true"), std::string::npos) << r;
+  EXPECT_NEAR(number_in(r, "achieved", "ucs_pa") / 200e6, 1.0, 2 * tol);
+  EXPECT_NEAR(number_in(r, "achieved", "tensile_strength_pa") / 21e6, 1.0, 2 * tol);
+
+  const fs::path three = kOut / "07_calibration_3d";
+  fs::remove_all(three);
+  ASSERT_EQ(run("calibrate " + quick.string() + " -o " + three.string() +
+                    " --set output.render=false --set scene.dimension=3 --set calibrate.poisson_ratio=0.15"
+                    " --set calibrate.specimen_width=0.01",
+                &log),
+            0)
+      << log;
+  const std::string t = read_text(three / "calibration.json");
+  EXPECT_NEAR(number_in(t, "achieved", "youngs_modulus_pa") / 60e9, 1.0, tol / 4);
+  EXPECT_NEAR(number_in(t, "achieved", "poisson_ratio"), 0.15, tol / 4 * 0.15);
+  EXPECT_NEAR(number_in(t, "achieved", "ucs_pa") / 200e6, 1.0, tol);
+}
+
 // Every other example's quick scene runs to completion and writes its series.
 TEST(Examples, EveryQuickSceneRuns) {
   if (!STRATA_WITH_GMSH || !STRATA_WITH_VTK)
@@ -246,7 +312,7 @@ TEST(Examples, EveryQuickSceneRuns) {
     const fs::path quick = dir.path() / "quick.toml";
     const auto name = dir.path().filename();
     if (!fs::exists(quick) || name == "01_uniaxial_compression" || name == "02_metamaterial_chain" ||
-        name == "04_coupled_wave" || name == "06_double_hole_blast")
+        name == "04_coupled_wave" || name == "06_double_hole_blast" || name == "07_calibration")
       continue;
     const fs::path out = kOut / dir.path().filename();
     fs::remove_all(out);
