@@ -5,7 +5,6 @@
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/progress.hpp>
-#include <strata/dem/lattice_elastic.hpp>
 
 #include <cstdio>
 #include <optional>
@@ -44,11 +43,6 @@ class CalibrateTerminal final : public cases::CalibrateObserver {
 }  // namespace
 
 int calibrate_cmd(const scene::Scene& sc, const std::filesystem::path& output) {
-  STRATA_CHECK(
-      sc.calibrate.has_value(), Input,
-      "{}: not a calibration: `strata calibrate` needs a [calibrate] table (the targets E, nu, UCS and "
-      "tensile strength, and the lattice); see docs/scene-reference.md",
-      sc.file.string());
   const std::filesystem::path dir = output.empty() ? sc.dir / sc.output.directory.value : output;
   CalibrateTerminal observer;
   const StopSignals stop;
@@ -70,10 +64,8 @@ int calibrate_cmd(const scene::Scene& sc, const std::filesystem::path& output) {
 int check_calibration(const scene::Scene& sc) {
   const scene::CalibrateTable& c = *sc.calibrate;
   const int dim = sc.scene.dimension;
-  const double w = c.specimen_width > 0 ? c.specimen_width.value : 40 * c.diameter.value;
-  const dem::LatticeSprings k =
-      dim == 2 ? dem::hex_springs(c.youngs_modulus * sc.scene.thickness, c.poisson_ratio)
-               : dem::close_packed_stacking_axis_springs(c.youngs_modulus, c.poisson_ratio, c.diameter);
+  const double w = cases::specimen_width(c);
+  const cases::LatticeParameters k = cases::analytical_springs(sc);
   std::printf("calibration  %s\n", sc.file.string().c_str());
   std::printf("targets      E = %.4g Pa, nu = %.4g, UCS = %.4g Pa, tensile strength = %.4g Pa (ratio %.3g)\n",
               c.youngs_modulus.value, c.poisson_ratio.value, c.ucs.value, c.tensile_strength.value,

@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 #include <optional>
 
@@ -42,11 +41,6 @@ const scene::CalibrateTable& table_of(const scene::Scene& sc) {
   return *sc.calibrate;
 }
 
-/// The widths of a calibration's specimens: the uniaxial specimen's and the disc's diameter.
-double width_of(const scene::CalibrateTable& c) {
-  return c.specimen_width > 0 ? c.specimen_width.value : 40 * c.diameter.value;
-}
-
 /// The expected peak strain of a specimen at the targets: UCS/E for the uniaxial one; the
 /// disc's platens approach by several times σt/E at the peak (the elastic solution of a disc
 /// under diametral loads gives 5-10 σt/E, more with local crushing).
@@ -56,15 +50,14 @@ double expected_peak_strain(const scene::CalibrateTable& c, const std::string& s
 
 /// Length of a specimen along its loading axis.
 double loaded_length(const scene::CalibrateTable& c, const std::string& specimen) {
-  return specimen == "uniaxial" ? 2 * width_of(c) : width_of(c);
+  return specimen == "uniaxial" ? 2 * specimen_width(c) : specimen_width(c);
 }
 
 double thickness_of(const scene::Scene& sc) {
   return sc.scene.dimension == 2 ? sc.scene.thickness.value : 1.0;
 }
 
-/// Kn, Ks that give the lattice (E, ν) by the analytical relations: 2D hexagonal with E·t,
-/// 3D close packing along its stacking axis z, the specimens' loading axis.
+/// Kn, Ks that give the lattice (E, ν) by the analytical relations (see analytical_springs).
 LatticeParameters springs_for(const scene::Scene& sc, double e, double nu) {
   const auto& c = *sc.calibrate;
   const dem::LatticeSprings k = sc.scene.dimension == 2
@@ -80,11 +73,20 @@ double misfit(double got, double want) { return std::abs(got - want) / std::abs(
 
 }  // namespace
 
+double specimen_width(const scene::CalibrateTable& c) {
+  return c.specimen_width > 0 ? c.specimen_width.value : 40 * c.diameter.value;
+}
+
+LatticeParameters analytical_springs(const scene::Scene& sc) {
+  const auto& c = table_of(sc);
+  return springs_for(sc, c.youngs_modulus, c.poisson_ratio);
+}
+
 std::string specimen_scene(const scene::Scene& sc, const std::string& specimen, const LatticeParameters& p,
                            double strain_rate, double strain, bool final_run) {
   const auto& c = table_of(sc);
   const int dim = sc.scene.dimension;
-  const double w = width_of(c), d = c.diameter;
+  const double w = specimen_width(c), d = c.diameter;
   const bool uniaxial = specimen == "uniaxial";
   const double length = loaded_length(c, specimen);
   // the loading axis: y in 2D and for the discs, z for the 3D cylinder (the stacking axis)
@@ -93,9 +95,8 @@ std::string specimen_scene(const scene::Scene& sc, const std::string& specimen, 
   const double speed = 0.5 * strain_rate * length;  // each platen
   std::vector<double> down(std::size_t(dim), 0.0), up(std::size_t(dim), 0.0);
   down[std::size_t(axis)] = -speed, up[std::size_t(axis)] = speed;
-  const double mass =
-      dim == 2 ? c.density * std::numbers::sqrt3 / 2 * d * d : c.density * d * d * d / std::numbers::sqrt2;
-  const double viscous_c = 2 * c.damping_ratio * std::sqrt(p.kn * mass);
+  const double viscous_c =
+      2 * c.damping_ratio * std::sqrt(p.kn * dem::lattice_particle_mass(dim, c.density, d));
 
   std::string s =
       fmt::format("# {} specimen of the calibration {} (written by strata calibrate).\n",
@@ -109,9 +110,8 @@ std::string specimen_scene(const scene::Scene& sc, const std::string& specimen, 
   if (dim == 2) s += fmt::format("thickness = {}\n", num(sc.scene.thickness));
   s += fmt::format("seed = {}\n", sc.scene.seed.value);
   s += fmt::format(
-      "\n[[material]]\nname = \"rock\"\ndensity = {}\nkn = {}\nks = {}\nfriction = {}\ntensile_strength = "
-      "{}\n"
-      "shear_strength = {}\nfriction_strengthens_bonds = {}\n",
+      "\n[[material]]\nname = \"rock\"\ndensity = {}\nkn = {}\nks = {}\nfriction = {}\n"
+      "tensile_strength = {}\nshear_strength = {}\nfriction_strengthens_bonds = {}\n",
       num(c.density), num(p.kn), num(p.ks), num(c.friction), num(p.fn_max), num(p.fs0),
       c.friction_strengthens_bonds.value ? "true" : "false");
   s +=
@@ -170,7 +170,6 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
   const auto& c = table_of(sc);
   const int dim = sc.scene.dimension;
   CalibrationResult res;
-  res.dim = dim;
   const double tol = c.tolerance;
   const double nu_max = dim == 2 ? 1.0 / 3.0 : 0.2;
   const double ratio_target = c.ucs / c.tensile_strength;
@@ -204,8 +203,7 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
              "calibrate: {} interrupted by a stop request at step {}; the runs so far are in {}", label,
              rr.step, output.string());
       scene::write_file_atomic(file, text);
-      std::ifstream in(dir / "summary.json");
-      const json summary = json::parse(in);
+      const json& summary = rr.summary;
       r.steps = summary.value("steps_done", std::int64_t(0));
       r.seconds += rr.step_seconds;
       r.directory = dir;
@@ -236,7 +234,7 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
 
   // 1. Elastic: the analytical inversion, corrected by the measured misfit.
   double e_a = c.youngs_modulus, nu_a = c.poisson_ratio;
-  LatticeParameters p = springs_for(sc, e_a, nu_a);
+  LatticeParameters p = analytical_springs(sc);
   res.analytical = p;
   p.fn_max = p.fs0 = INFINITY;
   const double elastic_strain = 0.5 * expected_peak_strain(c, "uniaxial");
@@ -375,9 +373,9 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
   md += fmt::format(
       "{}D {} lattice of particles of diameter {:g} mm; uniaxial specimen {:g} × {:g} mm{} ({} particles), "
       "Brazilian disc of diameter {:g} mm{} ({} particles).\n\n",
-      dim, lattice, c.diameter * 1e3, width_of(c) * 1e3, 2 * width_of(c) * 1e3,
-      dim == 3 ? " (a cylinder)" : "", u.particles, width_of(c) * 1e3,
-      dim == 3 ? fmt::format(", {:g} mm thick", width_of(c) * 500) : "", b.particles);
+      dim, lattice, c.diameter * 1e3, specimen_width(c) * 1e3, 2 * specimen_width(c) * 1e3,
+      dim == 3 ? " (a cylinder)" : "", u.particles, specimen_width(c) * 1e3,
+      dim == 3 ? fmt::format(", {:g} mm thick", specimen_width(c) * 500) : "", b.particles);
   md += "| quantity | target | achieved | error |\n|---|---:|---:|---:|\n";
   md += row("Young's modulus E (GPa)", c.youngs_modulus, res.youngs_modulus, 1e9, "{:.2f}");
   md += row("Poisson's ratio ν", c.poisson_ratio, res.poisson_ratio, 1, "{:.3f}");
@@ -395,8 +393,7 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
           "The target ratio UCS/tensile strength = {:.2f} is out of this lattice's reach: the ratios "
           "Fs0/Fn_max "
           "tried (the search keeps them between {:g} and {:g}) gave at {} {:.2f} (at Fs0/Fn_max = {:.3g}).{} "
-          "strata "
-          "kept a ratio near the {} and scaled the bond strengths to meet the {}.\n\n",
+          "strata kept a ratio near the {} and scaled the bond strengths to meet the {}.\n\n",
           ratio_target, q_lo, q_hi, above_all ? "most" : "least", edge, edge_q,
           above_all
               ? " Bonded-particle models of equal particles are known to give too low a ratio (Potyondy & "
@@ -406,17 +403,15 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
     } else {
       md += fmt::format(
           "The ratios UCS/tensile strength of the {} pairs tried lie on both sides of the target {:.2f} but "
-          "none came "
-          "within the tolerance: the ratio jumps with Fs0/Fn_max where the specimens' failure changes its "
-          "pattern. "
-          "strata kept the nearest ({:.2f}, at Fs0/Fn_max = {:.3g}) and scaled the bond strengths to meet "
-          "the {}.\n\n",
+          "none came within the tolerance: the ratio jumps with Fs0/Fn_max where the specimens' failure "
+          "changes its pattern. strata kept the nearest ({:.2f}, at Fs0/Fn_max = {:.3g}) and scaled the bond "
+          "strengths to meet the {}.\n\n",
           points.size(), ratio_target, best.ratio(), best.q, met);
     }
   }
   md += fmt::format(
-      "The [[material]] this gives (the specimens are uniaxial.toml and "
-      "brazilian.toml):\n\n```toml\n[[material]]\n"
+      "The [[material]] this gives (the specimens are uniaxial.toml and brazilian.toml):\n\n"
+      "```toml\n[[material]]\n"
       "name = \"rock\"\ndensity = {}\nkn = {:.6g}\nks = {:.6g}\nfriction = {}\ntensile_strength = {:.6g}\n"
       "shear_strength = {:.6g}\nfriction_strengthens_bonds = {}\n```\n\n",
       num(c.density), res.p.kn, res.p.ks, num(c.friction), res.p.fn_max, res.p.fs0,
@@ -428,8 +423,8 @@ CalibrationResult calibrate(const scene::Scene& sc, const fs::path& output, Cali
       res.analytical.ks > 0 ? 100 * (res.p.ks / res.analytical.ks - 1) : 0.0);
   md +=
       "| run | specimen | Kn (N/m) | Ks (N/m) | Fn_max (N) | Fs0/Fn_max | E (GPa) | ν | strength (MPa) | "
-      "steps | "
-      "run time (s) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      "steps "
+      "| run time (s) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   double total = 0;
   for (const auto& r : res.runs) {
     total += r.seconds;

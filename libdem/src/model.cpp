@@ -4,6 +4,7 @@
 #include "model.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/dem/lattice_elastic.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -62,8 +63,7 @@ std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, dou
   STRATA_CHECK(n() < 0xfffffff0u, Input, "add_particle: too many particles (uint32 indices)");
   STRATA_CHECK(materials.size() <= 255, Input, "at most 255 materials");
   const double d = 2 * r;
-  if (mass <= 0)
-    mass = materials[m].density * (D == 2 ? std::sqrt(3.0) / 2 * d * d : d * d * d / std::sqrt(2.0));
+  if (mass <= 0) mass = lattice_particle_mass(D, materials[m].density, d);
   STRATA_CHECK(mass > 0 && std::isfinite(mass), Input,
                "add_particle: mass {} must be > 0 (kg); is the material's density set?", mass);
   for (int a = 0; a < D; ++a) {

@@ -113,6 +113,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
         result.wall_seconds > 0 ? n * double(result.step - result.first_step) / result.wall_seconds : 0.0;
     result.last_frame = out.last_frame();
     result.written = out.written();
+    result.summary = out.summary();
     return result;
   };
   const double stop_after_peak = sc.probe.stop_after_peak;

@@ -179,6 +179,9 @@ class RunOutput {
     return peak > 0 && stress_.back() < fraction * peak;
   }
 
+  /// What finish() wrote to summary.json.
+  const json& summary() const { return summary_; }
+
   /// The run stopped at `step` because the specimen had failed (summary.json says so).
   void stopped_after_peak(std::int64_t step) { stopped_after_peak_ = step; }
 
@@ -325,6 +328,7 @@ class RunOutput {
       if (const auto e = measured_elastic(m)) summary["measured_elastic"] = *e;
     }
     write_file_atomic(dir_ / "summary.json", summary.dump(2) + "\n");
+    summary_ = std::move(summary);
     written_.push_back(dir_ / "summary.json");
     written_.push_back(dir_ / "probes.csv");
     if (particles_on_) written_.push_back(dir_ / "breaks.csv");
@@ -466,7 +470,8 @@ class RunOutput {
   std::vector<fs::path> written_;
   std::int64_t last_frame_step_ = -1;
   std::int64_t first_step_ = 0;
-  std::int64_t stopped_after_peak_ = -1;  ///< the step a failed specimen stopped the run at
+  std::int64_t stopped_after_peak_ = -1;
+  json summary_;  ///< the last summary written  ///< the step a failed specimen stopped the run at
 };
 
 }  // namespace strata::scene

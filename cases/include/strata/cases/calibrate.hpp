@@ -51,7 +51,6 @@ struct CalibrationRun {
 };
 
 struct CalibrationResult {
-  int dim = 2;
   LatticeParameters p;           ///< the chosen parameters
   LatticeParameters analytical;  ///< Kn, Ks from the analytical relations alone
   double youngs_modulus = 0, poisson_ratio = 0, ucs = 0, tensile_strength = 0;  ///< achieved
@@ -78,6 +77,15 @@ class CalibrateObserver : public scene::RunObserver {
 /// strata::Error (Input) for a scene without [calibrate], (Numerical) when a specimen blows up.
 CalibrationResult calibrate(const scene::Scene& sc, const std::filesystem::path& output,
                             CalibrateObserver& observer);
+
+/// Width of the uniaxial specimen and diameter of the Brazilian disc: [calibrate]
+/// specimen_width, or 40 particle diameters.
+double specimen_width(const scene::CalibrateTable& c);
+
+/// Kn and Ks from the lattice's analytical relations alone, at the targets E and ν: 2D
+/// hexagonal (E·t, t the scene's thickness), 3D close packing along its stacking axis z (the
+/// uniaxial specimen's axis). Throws strata::Error (Input) for a scene without [calibrate].
+LatticeParameters analytical_springs(const scene::Scene& sc);
 
 /// The scene text of a calibration specimen ("uniaxial" or "brazilian") of `sc`'s lattice with
 /// the parameters `p`: platens that approach at `strain_rate` (1/s, relative to the loaded

@@ -39,6 +39,12 @@ inline LatticeElastic close_packed_isotropic_elastic(double kn, double ks, doubl
   return {2 * std::numbers::sqrt2 * kn * (2 * kn + 3 * ks) / (d * (4 * kn + ks)), (kn - ks) / (4 * kn + ks)};
 }
 
+/// Mass of a particle of diameter d filling its site of the lattice: ρ·(√3/2)·d² in 2D (ρ per
+/// unit thickness, the hexagonal cell), ρ·d³/√2 in 3D (the close-packed cell).
+inline double lattice_particle_mass(int dim, double density, double d) {
+  return density * (dim == 2 ? std::numbers::sqrt3 / 2 * d * d : d * d * d / std::numbers::sqrt2);
+}
+
 /// Bond stiffnesses of a lattice.
 struct LatticeSprings {
   double kn = 0, ks = 0;  ///< N/m

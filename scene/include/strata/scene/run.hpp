@@ -49,6 +49,7 @@ struct RunResult {
   std::filesystem::path last_frame;  ///< empty: no frame written
   std::filesystem::path checkpoint;  ///< empty: none written (no HDF5, or not due)
   std::vector<std::filesystem::path> written;
+  nlohmann::json summary;  ///< what summary.json holds
 };
 
 /// Progress and events of a run. Every function has a default that does nothing, so an
