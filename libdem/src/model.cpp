@@ -291,6 +291,19 @@ std::size_t Model<D>::memory_bytes() const {
   return b;
 }
 
+template <int D>
+std::size_t Model<D>::streamed_bytes_per_step() const {
+  // per particle: positions, velocities and forces read and written; inverse mass and radius
+  // read; the flags byte and both pair lists' offsets read
+  const std::size_t particle = 3 * D * 2 * sizeof(double) + 2 * sizeof(double) + 1 + 2 * 4;
+  // per pair: partner index read, state byte and shear history read and written
+  const std::size_t pair = 4 + 2 + 2 * kNs * sizeof(double);
+  std::size_t b = n() * particle + contacts.size() * pair;
+  b += bonds.size() * (pair + 1);                                 // and the owner byte of the bond pass
+  if (!bonds.r0.empty()) b += bonds.size() * 3 * sizeof(double);  // rest length, factors
+  return b;
+}
+
 std::uint32_t ModelBase::set_with(std::uint32_t set, std::uint32_t group) {
   std::vector<std::uint32_t> want = group_sets[set];
   const auto at = std::lower_bound(want.begin(), want.end(), group);
@@ -331,7 +344,8 @@ template std::unique_ptr<ModelBase> make_model<3>(const Settings&);
       const;                                                                                            \
   template std::vector<std::array<double, 3>> Model<D>::displacements() const;                          \
   template std::vector<float> Model<D>::damage() const;                                                 \
-  template std::size_t Model<D>::memory_bytes() const;
+  template std::size_t Model<D>::memory_bytes() const;                                                  \
+  template std::size_t Model<D>::streamed_bytes_per_step() const;
 STRATA_DEM_INSTANTIATE(2)
 STRATA_DEM_INSTANTIATE(3)
 #undef STRATA_DEM_INSTANTIATE

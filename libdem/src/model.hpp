@@ -152,6 +152,7 @@ class ModelBase {
   virtual std::vector<float> damage() const = 0;
   virtual std::vector<PairView> pairs(bool bonds) const = 0;
   virtual std::size_t memory_bytes() const = 0;
+  virtual std::size_t streamed_bytes_per_step() const = 0;
   virtual std::uint64_t state_hash() const = 0;
   /// Checkpoints (state.cpp): the run state by reference, and the rebuild of derived data
   /// after it has been overwritten.
@@ -260,6 +261,7 @@ class Model final : public ModelBase, public ModelData<D> {
   const std::vector<std::uint32_t>& particle_sets() const override { return grp; }
   std::vector<float> damage() const override;
   std::size_t memory_bytes() const override;
+  std::size_t streamed_bytes_per_step() const override;
 
   // ---- neighbour search, bonds, contacts, thread plan (search.cpp) -----------------------
   /// Cell grid over the particles: cell side h >= the largest search distance.

@@ -238,6 +238,7 @@ std::vector<WallView> Simulation::walls() const {
   return out;
 }
 std::size_t Simulation::memory_bytes() const { return m_->memory_bytes(); }
+std::size_t Simulation::streamed_bytes_per_step() const { return m_->streamed_bytes_per_step(); }
 std::uint64_t Simulation::state_hash() const { return m_->state_hash(); }
 
 double hex_lattice_lambda_max(double kn, double ks, double mass) {

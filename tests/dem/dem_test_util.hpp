@@ -26,6 +26,16 @@ inline void add_lattice(Simulation& sim, const preprocess::Lattice& lat, int mat
   for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
 }
 
+/// The 1033-disk specimen of the uniaxial-compression example (35 rows of 30 and 29 disks of
+/// 1 mm), bonded where disks touch; not initialised yet.
+inline Simulation c1_specimen(Settings settings) {
+  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
+  Simulation sim(2, settings);
+  add_lattice(sim, lat, sim.add_material(c1_material()));
+  sim.bond_touching_pairs();
+  return sim;
+}
+
 /// Two 1 mm disks touching along x in material `m`: the left one (group "left") held, the
 /// right one (group "right") moved away at speed v (m/s). Not bonded and not initialised yet.
 inline Simulation pulled_pair(const Material& m, Settings settings, double v) {

@@ -37,11 +37,18 @@ TEST(Lattice, C1SpecimenHas1033DisksIn35Rows) {
 
 TEST(Lattice, HexBlockBondCount) {
   // 35 rows alternating 30/29: in-row bonds 18·29 + 17·28 = 998, between rows 34·2·29 = 1972.
-  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
-  Simulation sim(2, Settings{.dt = 1e-8});
-  add_lattice(sim, lat, sim.add_material(c1_material()));
-  sim.bond_touching_pairs();
+  Simulation sim = c1_specimen(Settings{.dt = 1e-8});
   EXPECT_EQ(sim.bond_count(), 2970u);
+}
+
+TEST(Lattice, StreamedBytesOfAStepCountParticlesAndBonds) {
+  // The 1033-disk specimen's 2970 bonds: per disk 3 arrays × 2 axes read and written (96 B),
+  // inverse mass and radius (16 B), flags and two offsets (9 B); per bond its partner (4 B),
+  // state byte read and written (2 B), one shear component read and written (16 B) and its
+  // owner byte (1 B). A contact costs the same but the owner byte.
+  Simulation sim = c1_specimen(Settings{.dt = 1e-8});
+  sim.initialise();
+  EXPECT_EQ(sim.streamed_bytes_per_step(), 1033u * 121u + 2970u * 23u + sim.contact_count() * 22u);
 }
 
 TEST(Lattice, ClosePackedCoordination) {
@@ -111,10 +118,7 @@ TEST(CriticalDt, C1Specimen) {
   // dt_crit = 2·√(m/(6Kn+2Ks)) = 1.44e-7 s for the infinite lattice. The finite
   // block's λmax is at most the infinite lattice's (interlacing), the Lanczos estimate is
   // used with a 1 % margin: expect dt_crit within 1 % of that value.
-  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
-  Simulation sim(2, Settings{.dt = 2e-8});
-  add_lattice(sim, lat, sim.add_material(c1_material()));
-  sim.bond_touching_pairs();
+  Simulation sim = c1_specimen(Settings{.dt = 2e-8});
   sim.initialise();
   const double spec = 2 * std::sqrt(c1_mass() / (6 * 6.587e10 + 2 * 2.371e10));
   EXPECT_NEAR(spec, 1.44e-7, 0.005e-7);

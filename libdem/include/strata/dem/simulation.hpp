@@ -255,6 +255,12 @@ class Simulation {
   std::vector<WallView> walls() const;
   /// Bytes held by the model's arrays (capacity).
   std::size_t memory_bytes() const;
+  /// Bytes one step moves between memory and the cores when none of the model's arrays stays
+  /// in cache: every particle array the step reads once, every one it changes read and written
+  /// once, and per bond or contact its partner index, state byte and shear history (read and
+  /// written). The scratch of a block's bonds and the partners' positions, which the lattice
+  /// order keeps within a few rows or layers, stay in cache and are not counted.
+  std::size_t streamed_bytes_per_step() const;
   /// FNV-1a hash of positions, velocities, bond states and shear displacements.
   std::uint64_t state_hash() const;
 

@@ -1,0 +1,59 @@
+// The machine's memory bandwidth, as the STREAM benchmark measures it (McCalpin 1995): the
+// triad a[i] = b[i] + s·c[i] over three arrays, counted as 24 bytes per element (two reads and
+// one write; the cache line the write allocates is not counted). Arrays of 2 MiB each stay in
+// the caches; arrays of 256 MiB each stream from memory. `scripts/bench bandwidth` puts these
+// rates beside the bytes a DEM step moves (strata bench dem: streamed_bytes_per_particle_step).
+//
+//   bench_stream --benchmark_counters_tabular=true
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+namespace {
+
+// Three arrays of `n` doubles, first touched by the threads that use them (the pages then
+// lie in those threads' memory).
+struct Arrays {
+  std::unique_ptr<double[]> a, b, c;
+  explicit Arrays(std::ptrdiff_t n, int threads) : a(new double[n]), b(new double[n]), c(new double[n]) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::ptrdiff_t i = 0; i < n; ++i) {
+      a[i] = 0.0;
+      b[i] = 1.0;
+      c[i] = 2.0;
+    }
+  }
+};
+
+// state.range(0): bytes per array; state.range(1): threads.
+void BM_Triad(benchmark::State& state) {
+  const std::ptrdiff_t n = state.range(0) / static_cast<std::ptrdiff_t>(sizeof(double));
+  const int threads = static_cast<int>(state.range(1));
+  Arrays m(n, threads);
+  double* __restrict a = m.a.get();
+  const double* __restrict b = m.b.get();
+  const double* __restrict c = m.c.get();
+  const double s = 3.0;
+  for (auto _ : state) {
+#pragma omp parallel for schedule(static) num_threads(threads)
+    for (std::ptrdiff_t i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
+    benchmark::ClobberMemory();
+  }
+  benchmark::DoNotOptimize(a[n / 2]);
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * n * 24);
+  state.counters["threads"] = threads;
+  state.counters["array_MiB"] = static_cast<double>(state.range(0)) / (1 << 20);
+}
+
+}  // namespace
+
+BENCHMARK(BM_Triad)
+    ->ArgsProduct({{2 << 20, 256 << 20}, {1, 2}})
+    ->ArgNames({"bytes", "threads"})
+    ->UseRealTime()
+    ->Unit(benchmark::kMillisecond);
+
+BENCHMARK_MAIN();
