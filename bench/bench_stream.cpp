@@ -6,7 +6,6 @@
 //
 //   bench_stream --benchmark_counters_tabular=true
 #include <benchmark/benchmark.h>
-#include <omp.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -80,13 +80,14 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   const double nn = static_cast<double>(n);
   const double streamed = static_cast<double>(sim.streamed_bytes_per_step());
   return fmt::format(
-      "{{\"dim\": {}, \"lattice\": \"{}\", \"particles\": {}, \"bonds\": {}, \"steps\": {}, \"threads\": {}, "
+      "{{\"dim\": {}, \"lattice\": \"{}\", \"side\": {:.9g}, \"particles\": {}, \"bonds\": {}, \"steps\": "
+      "{}, \"threads\": {}, "
       "\"seconds\": {:.6g}, \"particle_steps_per_s\": {:.6g}, \"bytes_per_particle\": {:.1f}, "
       "\"model_bytes_per_particle\": {:.1f}, \"streamed_bytes_per_particle_step\": {:.1f}, "
       "\"streamed_gb_per_s\": {:.4g}, \"dt\": {:.6g}, \"dt_over_dt_crit\": {:.4g}, \"broken_bonds\": "
       "{}, "
       "\"contacts\": {}, \"setup_seconds\": {:.4g}}}",
-      o.dim, o.dim == 2 ? "hex" : o.lattice, n, sim.bond_count(), o.steps, threads, secs,
+      o.dim, o.dim == 2 ? "hex" : o.lattice, side, n, sim.bond_count(), o.steps, threads, secs,
       nn * static_cast<double>(o.steps) / secs, (hwm - rss0) / nn,
       static_cast<double>(sim.memory_bytes()) / nn, streamed / nn,
       streamed * static_cast<double>(o.steps) / secs * 1e-9, sim.dt(), sim.dt() / sim.critical_dt(),

@@ -17,11 +17,12 @@ struct BenchDemOptions {
 
 /// Builds the block (platens: top and bottom rows/layers, moving inward along y (2D) or z
 /// (3D) at an axial strain rate of 1/s), runs the steps with dt = 0.5·dt_crit and returns one
-/// JSON object: dim, lattice, particles, bonds, steps, threads, seconds (stepping only),
-/// particle_steps_per_s, bytes_per_particle (peak RSS of the process minus the RSS before the
-/// model was built, per particle), model_bytes_per_particle (Simulation::memory_bytes()/N),
-/// streamed_bytes_per_particle_step (Simulation::streamed_bytes_per_step()/N) and the rate it
-/// implies (streamed_gb_per_s), dt, dt_over_dt_crit, broken_bonds, contacts, setup_seconds.
+/// JSON object: dim, lattice, side (m, of the square or cube the lattice fills), particles,
+/// bonds, steps, threads, seconds (stepping only), particle_steps_per_s, bytes_per_particle
+/// (peak RSS of the process minus the RSS before the model was built, per particle),
+/// model_bytes_per_particle (Simulation::memory_bytes()/N), streamed_bytes_per_particle_step
+/// (Simulation::streamed_bytes_per_step()/N) and the rate it implies (streamed_gb_per_s), dt,
+/// dt_over_dt_crit, broken_bonds, contacts, setup_seconds.
 std::string bench_dem_json(const BenchDemOptions& options);
 
 }  // namespace strata::app
