@@ -75,4 +75,80 @@ std::vector<HoughLine> hough_lines(const std::vector<std::array<double, 2>>& poi
   return out;
 }
 
+namespace {
+
+// Full width at half maximum of the distances `s` (m) around 0: histogram bins of h over
+// [-half_range, half_range], the highest bin within one spacing of 0, and the half-maximum
+// crossings on either side interpolated linearly between bin centres.
+double fwhm(const std::vector<double>& s, double h, double half_range, double spacing) {
+  const int nb = 2 * static_cast<int>(std::ceil(half_range / h));
+  std::vector<double> c(static_cast<std::size_t>(nb), 0.0);
+  for (double d : s) {
+    const int b = static_cast<int>(std::floor((d + 0.5 * nb * h) / h));
+    if (b >= 0 && b < nb) c[static_cast<std::size_t>(b)] += 1;
+  }
+  auto centre = [&](int b) { return (b + 0.5) * h - 0.5 * nb * h; };
+  int top = -1;
+  for (int b = 0; b < nb; ++b)
+    if (std::abs(centre(b)) <= spacing && (top < 0 || c[b] > c[top])) top = b;
+  if (top < 0 || c[top] <= 0) return 0;
+  const double half = 0.5 * c[top];
+  auto crossing = [&](int step) {
+    int b = top;
+    while (b + step >= 0 && b + step < nb && c[b + step] >= half) b += step;
+    const double next = (b + step >= 0 && b + step < nb) ? c[b + step] : 0.0;
+    return centre(b) + step * h * (c[b] - half) / (c[b] - next);
+  };
+  return crossing(+1) - crossing(-1);
+}
+
+}  // namespace
+
+std::vector<ShearBand> conjugate_bands(const std::vector<std::array<double, 2>>& points, int axis,
+                                       double spacing) {
+  std::vector<ShearBand> out;
+  if (points.size() < 2 || !(spacing > 0)) return out;
+  HoughOptions o;
+  o.lines = 1;
+  o.rho_bin = spacing;
+  // One line at a time: the strongest line of the points left, whose points are then taken
+  // away, so that lines through the same band at nearby angles are not counted again.
+  std::vector<std::array<double, 2>> left = points;
+  bool found[2] = {false, false};  // leaning clockwise, counter-clockwise
+  double strongest = 0;
+  for (int round = 0; round < 8 && !(found[0] && found[1]) && left.size() >= 2; ++round) {
+    const auto lines = hough_lines(left, o);
+    if (lines.empty()) break;
+    const HoughLine& l = lines.front();
+    if (round == 0) strongest = l.votes;
+    if (l.votes < 0.4 * strongest) break;  // a stray alignment of scattered breaks, not a band
+    const double c = std::cos(l.theta), s = std::sin(l.theta);
+    std::vector<double> dist;
+    dist.reserve(left.size());
+    for (const auto& p : left) dist.push_back(p[0] * c + p[1] * s - l.rho);
+    const double width = fwhm(dist, 0.5 * spacing, 8 * spacing, spacing);
+    // the line's direction against the loading axis's (90 degrees for y, 0 for x)
+    double a = l.direction_deg() - (axis == 1 ? 90.0 : 0.0);
+    if (a > 90) a -= 180;
+    if (a <= -90) a += 180;
+    const int side = a > 0 ? 1 : 0;
+    if (std::abs(a) >= 10 && std::abs(a) <= 80 && !found[side]) {
+      found[side] = true;
+      ShearBand band;
+      band.angle_deg = a;
+      band.line = l;
+      band.width = width;
+      const double reach = 0.5 * std::max(width, spacing);
+      for (double d : dist) band.breaks += std::abs(d) <= reach;
+      out.push_back(band);
+    }
+    std::vector<std::array<double, 2>> rest;
+    const double body = std::max(width, spacing);
+    for (std::size_t k = 0; k < left.size(); ++k)
+      if (std::abs(dist[k]) > body) rest.push_back(left[k]);
+    left.swap(rest);
+  }
+  return out;
+}
+
 }  // namespace strata::dem

@@ -5,6 +5,7 @@
 #include <strata/config.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/state_io.hpp>
+#include <strata/dem/hough.hpp>
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
 #include <strata/io/render.hpp>
@@ -14,6 +15,8 @@
 #include <strata/scene/model.hpp>
 #include <strata/scene/scene.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -326,6 +329,7 @@ class RunOutput {
         break;
       }
       if (const auto e = measured_elastic(m)) summary["measured_elastic"] = *e;
+      if (const auto b = shear_bands(m, probe_steps_[std::size_t(peak)])) summary["shear_bands"] = *b;
     }
     write_file_atomic(dir_ / "summary.json", summary.dump(2) + "\n");
     summary_ = std::move(summary);
@@ -371,6 +375,40 @@ class RunOutput {
     e["rows"] = rows.size();
     e["window"] = "stress 10-60 % of that at the first break (or the peak), before it";
     return e;
+  }
+
+  /// The conjugate shear bands of a 2D specimen, traced by the bonds that broke from the peak
+  /// stress on (dem::conjugate_bands, with the platen rows' diameter as the spacing).
+  /// Nothing in 3D or when fewer than 20 bonds broke after the peak.
+  std::optional<json> shear_bands(const BuiltModel& m, std::int64_t peak_step) const {
+    if (m.sim().dim() != 2) return std::nullopt;
+    std::vector<std::array<double, 2>> pts;
+    for (const auto& b : m.sim().breaks())
+      if (b.step >= peak_step) pts.push_back({b.position[0], b.position[1]});
+    if (pts.size() < 20) return std::nullopt;
+    const double spacing = 2 * m.platens.radius;
+    const auto bands = dem::conjugate_bands(pts, m.platens.axis, spacing);
+    json j;
+    j["from_step"] = peak_step;
+    j["breaks_after_peak"] = pts.size();
+    j["bands"] = json::array();
+    for (const auto& band : bands)
+      j["bands"].push_back({{"angle_to_load_deg", band.angle_deg},
+                            {"width_m", band.width},
+                            {"breaks", band.breaks},
+                            {"theta_rad", band.line.theta},
+                            {"rho_m", band.line.rho}});
+    // How dominant the bands are: the share of the post-peak breaks within half a width (at
+    // least half a spacing) of either band's line. A failure that localises in two bands puts
+    // a large share there; a network of many parallel damage lines a small one.
+    std::size_t inside = 0;
+    for (const auto& p : pts)
+      inside += std::any_of(bands.begin(), bands.end(), [&](const dem::ShearBand& b) {
+        const double d = p[0] * std::cos(b.line.theta) + p[1] * std::sin(b.line.theta) - b.line.rho;
+        return std::abs(d) <= 0.5 * std::max(b.width, spacing);
+      });
+    j["fraction_in_bands"] = double(inside) / double(pts.size());
+    return j;
   }
 
   /// Plots and pictures (needs STRATA_WITH_RENDER). `stop_requested` is asked before each

@@ -2,6 +2,7 @@
 /// Hough transform of 2D points: finds dominant straight lines, e.g. shear bands traced by
 /// broken-bond midpoints (in uniaxial compression: two conjugate, X-shaped bands).
 #include <array>
+#include <cstddef>
 #include <vector>
 
 namespace strata::dem {
@@ -26,5 +27,29 @@ struct HoughOptions {
 /// The strongest lines through `points` (x, y), strongest first. Deterministic.
 std::vector<HoughLine> hough_lines(const std::vector<std::array<double, 2>>& points,
                                    const HoughOptions& options = {});
+
+/// A shear band: a straight, narrow zone of broken bonds.
+struct ShearBand {
+  /// Inclination of the band to the loading axis, degrees in (-90, 90], counter-clockwise
+  /// positive: the two bands of a conjugate pair have opposite signs.
+  double angle_deg = 0;
+  /// Full width at half maximum of the breaks' density across the band (m).
+  double width = 0;
+  HoughLine line;          ///< its centre line
+  std::size_t breaks = 0;  ///< points within half a width (at least half a spacing) of the centre line
+};
+
+/// The conjugate pair of shear bands traced by `points` (the midpoints of broken bonds, e.g.
+/// those that broke after the peak stress). Lines are taken one at a time, strongest first,
+/// by the Hough transform with rho bins of one particle `spacing`; each line's points (within
+/// one band width of it) are set aside before the next is sought, and the search ends at a
+/// line with under 0.4 times the points of the first (a stray alignment of scattered breaks).
+/// The bands are the first line leaning each way from the loading axis (`axis` 0: x, 1: y)
+/// by 10 to 80 degrees: axial splitting and cracks along the platens are not shear bands.
+/// A band's width is the full width at half maximum of the histogram (bins of half a
+/// spacing) of its points' distances to the line, over ±8 spacings. None, one or two bands;
+/// deterministic.
+std::vector<ShearBand> conjugate_bands(const std::vector<std::array<double, 2>>& points, int axis,
+                                       double spacing);
 
 }  // namespace strata::dem
