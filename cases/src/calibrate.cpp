@@ -127,6 +127,9 @@ std::string specimen_scene(const scene::Scene& sc, const std::string& specimen, 
   else
     s += fmt::format("shape = \"cylinder\"\ncenter = {}\nradius = {}\nheight = {}\n",
                      vec({w / 2, w / 2, w / 4}), num(w / 2), num(w / 2));
+  if (c.strength_spread != scene::StrengthSpread::None)
+    s += fmt::format("strength_spread = \"{}\"\nstrength_cov = {}\n", scene::to_string(c.strength_spread),
+                     num(c.strength_cov));
   if (uniaxial || dim == 2) {
     const std::string top = uniaxial && dim == 3 ? "top_layer" : "top_row";
     const std::string bottom = uniaxial && dim == 3 ? "bottom_layer" : "bottom_row";

@@ -110,9 +110,19 @@ class KeyChecks {
                          duration, eta_max, dt_fem));
   }
 
+  /// A spread of bond strengths needs its coefficient of variation ([[region]], [calibrate]).
+  void check_spread(const Table& t) {
+    if (t.str("strength_spread") != "none" && !(t.real("strength_cov") > 0))
+      report(t.given("strength_cov") ? t.where("strength_cov") : t.where("strength_spread"),
+             fmt::format("strength_spread = \"{}\" needs strength_cov > 0 (the coefficient of variation "
+                         "of the bond strengths, e.g. 0.2)",
+                         t.str("strength_spread")));
+  }
+
   /// Checks between the keys of [calibrate] and [scene].dimension.
   void check_calibrate(const Tables& scene) {
     const Table& c = scene.table("calibrate");
+    check_spread(c);
     const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
     const std::string& lattice = c.str("lattice");
     if (lattice == "hex" && dim == 3)
@@ -176,11 +186,7 @@ class KeyChecks {
     for (const Table& r : scene.tables("region")) {
       check_reference(r, "material", "[[material]]", materials);
       if (r.str("kind") == "particles") need(region_spec, r, "diameter", "kind");
-      if (r.str("strength_spread") != "none" && !(r.real("strength_cov") > 0))
-        report(r.given("strength_cov") ? r.where("strength_cov") : r.where("strength_spread"),
-               fmt::format("strength_spread = \"{}\" needs strength_cov > 0 (the coefficient of variation "
-                           "of the bond strengths, e.g. 0.2)",
-                           r.str("strength_spread")));
+      check_spread(r);
       const std::string& lattice = r.str("lattice");
       if (lattice == "hex" && dim == 3)
         report(r.where("lattice"), "lattice = \"hex\" is for 2D scenes; in 3D use hcp or fcc (or auto)");

@@ -137,6 +137,26 @@ TEST(SceneCalibrate, SpecimenScenesAreValidModels) {
   EXPECT_EQ(md.groups.at("bottom"), line) << "the disc is symmetric";
 }
 
+// [calibrate] strength_spread reaches the specimens: the region of each specimen scene holds
+// the spread and its coefficient of variation. A spread without its coefficient is refused at
+// the key.
+TEST(SceneCalibrate, SpecimensCarryTheStrengthSpread) {
+  const auto sc = strata::scene::parse(
+      kCalibration, "cal.toml", {"calibrate.strength_spread=\"weibull\"", "calibrate.strength_cov=0.2"});
+  strata::cases::LatticeParameters p;
+  p.kn = 6.5e10, p.ks = 2.3e10, p.fn_max = 1.2e4, p.fs0 = 3.7e4;
+  for (const char* specimen : {"uniaxial", "brazilian"}) {
+    const auto s =
+        strata::scene::parse(strata::cases::specimen_scene(sc, specimen, p, 1.0, 1e-3, false), "s.toml");
+    ASSERT_EQ(s.regions.size(), 1u);
+    EXPECT_EQ(s.regions[0].strength_spread.value, strata::scene::StrengthSpread::Weibull) << specimen;
+    EXPECT_EQ(s.regions[0].strength_cov.value, 0.2) << specimen;
+  }
+  EXPECT_EQ(error_of(kCalibration, {"calibrate.strength_spread=\"normal\""}),
+            "--set calibrate.strength_spread=\"normal\": strength_spread = \"normal\" needs strength_cov > 0 "
+            "(the coefficient of variation of the bond strengths, e.g. 0.2)");
+}
+
 // A 2D uniaxial specimen that stops once it has failed: the stress fell below the fraction of
 // its peak, with a bond broken; summary.json gives the step and the run ends "completed".
 TEST(SceneCalibrate, RunStopsAfterThePeak) {

@@ -86,6 +86,18 @@ TableSpec calibrate_spec() {
               .doc("Which strength to reach when the lattice cannot give the targets' ratio UCS/tensile "
                    "strength (bonded-particle lattices give too low a ratio for most rocks): the UCS, "
                    "or the tensile strength. The other is reported as achieved."),
+          K("strength_spread", Choice)
+              .choices(words(kSpread))
+              .def(R"("none")")
+              .doc("As [[region]] strength_spread, for the specimens: a spread of bond strengths, each "
+                   "bond's tensile and shear strengths multiplied by a factor of mean 1 drawn from the "
+                   "scene's seed. The search then matches the strengths of the heterogeneous specimens."),
+          K("strength_cov", Real)
+              .ge(0)
+              .le(1)
+              .def("0.0")
+              .doc("Coefficient of variation of the specimens' bond strength factors; required above 0 with "
+                   "strength_spread."),
       }};
 }
 
@@ -108,6 +120,8 @@ CalibrateTable read_calibrate(const Table& t) {
   read("iterations", c.iterations);
   read("tolerance", c.tolerance);
   read("match", c.match);
+  read("strength_spread", c.strength_spread, kSpread);
+  read("strength_cov", c.strength_cov);
   read.done();
   return c;
 }

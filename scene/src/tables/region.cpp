@@ -11,8 +11,6 @@ const Word<RegionShape> kShape[] = {{"box", RegionShape::Box},         {"disk", 
 const Word<RegionEccentricity> kEccentricity[] = {{"none", RegionEccentricity::None},
                                                   {"cube", RegionEccentricity::Cube},
                                                   {"sphere", RegionEccentricity::Sphere}};
-const Word<StrengthSpread> kSpread[] = {
-    {"none", StrengthSpread::None}, {"normal", StrengthSpread::Normal}, {"weibull", StrengthSpread::Weibull}};
 const Word<LengthUnit> kUnit[] = {{"m", LengthUnit::Metre},
                                   {"cm", LengthUnit::Centimetre},
                                   {"mm", LengthUnit::Millimetre},

@@ -114,6 +114,10 @@ struct Word {
   E value;
 };
 
+/// [[region]] and [calibrate] strength_spread.
+inline constexpr Word<StrengthSpread> kSpread[] = {
+    {"none", StrengthSpread::None}, {"normal", StrengthSpread::Normal}, {"weibull", StrengthSpread::Weibull}};
+
 /// The declared choices of a list of words.
 template <class E, std::size_t N>
 std::vector<std::string> words(const Word<E> (&list)[N]) {

@@ -335,7 +335,9 @@ struct CalibrateTable {
   Located<double> transits_to_peak;
   Located<std::int64_t> iterations;
   Located<double> tolerance;
-  Located<std::string> match;  ///< "ucs" or "tensile_strength"
+  Located<std::string> match;               ///< "ucs" or "tensile_strength"
+  Located<StrengthSpread> strength_spread;  ///< of the specimens' bond strengths
+  Located<double> strength_cov;
 };
 
 }  // namespace strata::scene
