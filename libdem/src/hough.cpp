@@ -13,6 +13,12 @@ double HoughLine::direction_deg() const {
   return d;
 }
 
+double HoughLine::distance(const std::array<double, 2>& p) const {
+  return p[0] * std::cos(theta) + p[1] * std::sin(theta) - rho;
+}
+
+bool ShearBand::holds(const std::array<double, 2>& p) const { return std::abs(line.distance(p)) <= reach; }
+
 std::vector<HoughLine> hough_lines(const std::vector<std::array<double, 2>>& points, const HoughOptions& o) {
   std::vector<HoughLine> out;
   if (points.empty() || o.theta_bins < 2) return out;
@@ -122,10 +128,9 @@ std::vector<ShearBand> conjugate_bands(const std::vector<std::array<double, 2>>&
     const HoughLine& l = lines.front();
     if (round == 0) strongest = l.votes;
     if (l.votes < 0.4 * strongest) break;  // a stray alignment of scattered breaks, not a band
-    const double c = std::cos(l.theta), s = std::sin(l.theta);
     std::vector<double> dist;
     dist.reserve(left.size());
-    for (const auto& p : left) dist.push_back(p[0] * c + p[1] * s - l.rho);
+    for (const auto& p : left) dist.push_back(l.distance(p));
     const double width = fwhm(dist, 0.5 * spacing, 8 * spacing, spacing);
     // the line's direction against the loading axis's (90 degrees for y, 0 for x)
     double a = l.direction_deg() - (axis == 1 ? 90.0 : 0.0);
@@ -138,8 +143,8 @@ std::vector<ShearBand> conjugate_bands(const std::vector<std::array<double, 2>>&
       band.angle_deg = a;
       band.line = l;
       band.width = width;
-      const double reach = 0.5 * std::max(width, spacing);
-      for (double d : dist) band.breaks += std::abs(d) <= reach;
+      band.reach = 0.5 * std::max(width, spacing);
+      for (double d : dist) band.breaks += std::abs(d) <= band.reach;
       out.push_back(band);
     }
     std::vector<std::array<double, 2>> rest;

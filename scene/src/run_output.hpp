@@ -386,8 +386,7 @@ class RunOutput {
     for (const auto& b : m.sim().breaks())
       if (b.step >= peak_step) pts.push_back({b.position[0], b.position[1]});
     if (pts.size() < 20) return std::nullopt;
-    const double spacing = 2 * m.platens.radius;
-    const auto bands = dem::conjugate_bands(pts, m.platens.axis, spacing);
+    const auto bands = dem::conjugate_bands(pts, m.platens.axis, 2 * m.platens.radius);
     json j;
     j["from_step"] = peak_step;
     j["breaks_after_peak"] = pts.size();
@@ -398,15 +397,12 @@ class RunOutput {
                             {"breaks", band.breaks},
                             {"theta_rad", band.line.theta},
                             {"rho_m", band.line.rho}});
-    // How dominant the bands are: the share of the post-peak breaks within half a width (at
-    // least half a spacing) of either band's line. A failure that localises in two bands puts
-    // a large share there; a network of many parallel damage lines a small one.
+    // How dominant the bands are: the share of the post-peak breaks in either band. A failure
+    // that localises in two bands puts a large share there; a network of many parallel damage
+    // lines a small one.
     std::size_t inside = 0;
     for (const auto& p : pts)
-      inside += std::any_of(bands.begin(), bands.end(), [&](const dem::ShearBand& b) {
-        const double d = p[0] * std::cos(b.line.theta) + p[1] * std::sin(b.line.theta) - b.line.rho;
-        return std::abs(d) <= 0.5 * std::max(b.width, spacing);
-      });
+      inside += std::any_of(bands.begin(), bands.end(), [&](const dem::ShearBand& b) { return b.holds(p); });
     j["fraction_in_bands"] = double(inside) / double(pts.size());
     return j;
   }

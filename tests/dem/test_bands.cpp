@@ -60,8 +60,8 @@ TEST(ShearBands, ConjugatePairAmongScatteredBreaks) {
   EXPECT_GT(pos->breaks, 300u);
   EXPECT_LT(pos->breaks, 450u);
   // the line passes through the band's centre
-  const double c = std::cos(pos->line.theta), s = std::sin(pos->line.theta);
-  EXPECT_NEAR(0.012 * c + 0.016 * s - pos->line.rho, 0.0, kSpacing);
+  EXPECT_NEAR(pos->line.distance({0.012, 0.016}), 0.0, kSpacing);
+  EXPECT_TRUE(pos->holds({0.012, 0.016}));
 }
 
 // The same pair loaded along x: the angles are measured from x, so they are the

@@ -14,6 +14,8 @@ struct HoughLine {
   double votes;  ///< (weighted) number of points within half a rho bin of the line
   /// Direction of the line itself, degrees in [0, 180) measured from the +x axis.
   double direction_deg() const;
+  /// Signed distance of the point p from the line (m).
+  double distance(const std::array<double, 2>& p) const;
 };
 
 struct HoughOptions {
@@ -35,8 +37,12 @@ struct ShearBand {
   double angle_deg = 0;
   /// Full width at half maximum of the breaks' density across the band (m).
   double width = 0;
-  HoughLine line;          ///< its centre line
-  std::size_t breaks = 0;  ///< points within half a width (at least half a spacing) of the centre line
+  HoughLine line;  ///< its centre line
+  /// Half-width of the zone counted as the band: half its width, at least half a spacing.
+  double reach = 0;
+  std::size_t breaks = 0;  ///< points within `reach` of the centre line
+  /// Whether the point p lies in the band (within `reach` of its centre line).
+  bool holds(const std::array<double, 2>& p) const;
 };
 
 /// The conjugate pair of shear bands traced by `points` (the midpoints of broken bonds, e.g.
