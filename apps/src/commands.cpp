@@ -114,6 +114,11 @@ class TerminalObserver final : public scene::RunObserver {
     std::printf("restart      step %lld (t = %.6g s) of %s\n", (long long)step, time,
                 checkpoint.string().c_str());
   }
+  void settling(std::int64_t step, std::int64_t steps) override {
+    if (step == 0) settle_.emplace("settle", steps);
+    settle_->update(step);
+    if (step == steps) settle_->finish(step);
+  }
   void started(std::int64_t first, std::int64_t steps, const fs::path& dir) override {
     log::info("running {} steps on {} thread(s); output in {}", steps - std::min(first, steps),
               par::threads(), dir.string());
@@ -124,7 +129,7 @@ class TerminalObserver final : public scene::RunObserver {
   void stepped(const scene::RunResult& r) override { progress_->finish(r.step); }
 
  private:
-  std::optional<Progress> progress_;
+  std::optional<Progress> progress_, settle_;
 };
 
 }  // namespace

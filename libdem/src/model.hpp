@@ -127,6 +127,7 @@ class ModelBase {
   /// limit it) and dt checked against it.
   virtual void walls_changed() = 0;
   virtual void run(std::int64_t steps, bool energies_at_end) = 0;
+  virtual void settle(std::int64_t steps) = 0;
   virtual std::int64_t step_count() const = 0;
   virtual double time() const = 0;
   virtual std::int64_t last_good_step() const = 0;
@@ -303,6 +304,7 @@ class Model final : public ModelBase, public ModelData<D> {
   }
   StepCtx step_context() const;
   void run(std::int64_t steps, bool energies_at_end) override;
+  void settle(std::int64_t steps) override;
   void check_blowup(bool nan_seen);
   /// The blow-up check between two energy steps, on energies evaluated afresh: run when a
   /// particle moves faster than the energy budget allows (v2_alarm).

@@ -173,6 +173,55 @@ void Model<D>::run(std::int64_t steps, bool energies_at_end) {
 }
 
 template <int D>
+void Model<D>::settle(std::int64_t steps) {
+  STRATA_CHECK(initialised, Input, "settle: call initialise() first");
+  STRATA_CHECK(step_ == 0, Input,
+               "settle: the model has run {} steps; a settling stage comes before the first step", step_);
+  STRATA_CHECK(steps >= 0, Input, "settle: steps = {} must be >= 0", steps);
+  if (steps == 0) return;
+  if (bcs_dirty) resolve_bcs();
+  for (const BcParticle& b : bcp)
+    STRATA_CHECK(b.exchange == 0, Input, "settle: particles driven by a coupled partition cannot settle");
+  // Prescribed motions and loads wait: a prescribed axis is held where it is, no load acts,
+  // walls stand.
+  const std::vector<BcParticle> waiting = bcp;
+  for (BcParticle& b : bcp) {
+    b.history = -1;
+    for (int a = 0; a < D; ++a)
+      if (b.mode[a] != 0) {
+        b.mode[a] = 1;
+        b.value[a] = 0;
+      }
+  }
+  std::vector<std::array<double, 3>> wall_v;
+  for (Wall& w : walls) {
+    wall_v.push_back({w.v[0], w.v[1], w.v[2]});
+    std::fill(w.v, w.v + 3, 0.0);
+  }
+  run(steps, true);
+  // The settled state is the start of the run.
+  for (std::size_t k = 0; k < walls.size(); ++k) std::copy(wall_v[k].begin(), wall_v[k].end(), walls[k].v);
+  for (std::size_t k = 0; k < bcp.size(); ++k) {
+    BcParticle& b = bcp[k];
+    const BcParticle& w = waiting[k];  // the same particle: nothing resolved the records anew
+    b.history = w.history;
+    std::copy(w.mode, w.mode + 3, b.mode);
+    std::copy(w.value, w.value + 3, b.value);
+    std::fill(b.dx_prev, b.dx_prev + 3, 0.0);  // held while settling: no motion to carry on
+    b.w_ahead = b.w_ahead_ex = b.ke_driven = 0;
+  }
+  for (int a = 0; a < D; ++a) x0[a] = x[a];
+  set_load_directions();  // radial loads point away from their centre as seen from x0
+  for (BlockAcc& A : acc) A.work = A.work_ex = A.dissipated = 0;
+  for (BreakEvent& e : events) e.step -= step_;
+  step_ = 0;
+  time_ = 0;
+  last_good = 0;
+  energy_budget0 = dry_kinetic() + dry_bond_energy();
+  v2_alarm = -1;
+}
+
+template <int D>
 void Model<D>::check_blowup(bool nan_seen) {
   double ke = 0, eb = 0;
   for (const BlockAcc& A : acc) {
@@ -262,6 +311,7 @@ void Model<D>::merge_events() {
   template void Model<D>::check_dt();              \
   template StepCtx Model<D>::step_context() const; \
   template void Model<D>::run(std::int64_t, bool); \
+  template void Model<D>::settle(std::int64_t);    \
   template void Model<D>::check_blowup(bool);      \
   template void Model<D>::merge_events();
 STRATA_DEM_INSTANTIATE(2)

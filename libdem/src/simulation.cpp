@@ -202,6 +202,7 @@ void Simulation::set_dt(double dt) {
   }
 }
 void Simulation::run(std::int64_t steps, bool energies) { m_->run(steps, energies); }
+void Simulation::settle(std::int64_t steps) { m_->settle(steps); }
 std::int64_t Simulation::step_count() const { return m_->step_count(); }
 double Simulation::time() const { return m_->time(); }
 std::int64_t Simulation::last_good_step() const { return m_->last_good_step(); }

@@ -714,6 +714,10 @@ BuiltModel build_model(const Scene& sc, bool force) {
   bool any_fem = false;
   for (const auto& r : sc.regions) any_fem |= r.kind == RegionKind::Fem;
   if (any_fem) {
+    if (solver.settle > 0)
+      solver.settle.fail(
+          "a settling stage is for models of particles only; this scene has FEM regions. Allowed: "
+          "settle = 0 here, or settle the particles in a scene of their own");
     BuiltModel m = build_fem_model(sc, force);  // fem_model.cpp: FEM alone or coupled
     if (m.has_particles()) setup_platens(sc, m);
     m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -760,6 +764,7 @@ BuiltModel build_model(const Scene& sc, bool force) {
   sim.set_dt(dt);  // warns when above dt_crit and allowed
   m.dt = sim.dt();
   m.steps = step_count_of(solver, m.dt, 1);
+  m.settle_steps = std::int64_t(std::ceil(solver.settle / m.dt - 1e-9));
   setup_platens(sc, m);
   m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return m;

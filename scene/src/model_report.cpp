@@ -100,6 +100,10 @@ json model_json(const BuiltModel& m, const Scene& sc) {
             {"steps", m.steps},
             {"simulated_time_s", double(m.steps) * m.dt},
             {"threads", par::threads()}});
+  if (m.settle_steps > 0) {
+    j["settle_steps"] = m.settle_steps;
+    j["settle_time_s"] = double(m.settle_steps) * m.dt;
+  }
   if (m.has_fem()) {
     std::size_t elements = 0;
     json fem = json::array();

@@ -26,6 +26,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// The next chunk of steps between two looks at the observer: about 0.25 s of stepping,
+/// from the `took` seconds the last `n` steps took (chunk: the last chunk's size).
+std::int64_t next_chunk(std::int64_t n, double took, std::int64_t chunk) {
+  return std::clamp<std::int64_t>(took > 0 ? std::int64_t(double(n) * 0.25 / took) : 2 * chunk, 1, 1 << 20);
+}
+
 /// "SIGINT" for a signal number, else "stop request N".
 std::string stop_name(int reason) {
   const char* abbrev = reason > 0 && reason < NSIG ? sigabbrev_np(reason) : nullptr;
@@ -100,8 +106,37 @@ RunResult Run::Impl::execute(RunObserver& observer) {
                 first, steps);
   }
 
-  observer.started(first * q, steps * q, dir);
   const auto t0 = std::chrono::steady_clock::now();
+  std::int64_t settled = 0;  // settling steps of this execution (in the step rate)
+  if (m.settle_steps > 0 && opt.restart.empty()) {
+    // The settling stage, in chunks of about 0.25 s so that a stop request is seen soon.
+    std::int64_t done = 0, chunk = 4;
+    observer.settling(0, m.settle_steps);
+    while (done < m.settle_steps) {
+      if (const int reason = observer.stop_requested()) {
+        out.finish(m, model, seconds_since(t0),
+                   fmt::format("interrupted by {} while settling, at step {} of {}", stop_name(reason), done,
+                               m.settle_steps));
+        result.status = RunStatus::Interrupted;
+        result.stop_reason = reason;
+        result.first_step = result.step = 0;
+        result.written = out.written();
+        result.summary = out.summary();
+        return result;
+      }
+      const std::int64_t n = std::min(chunk, m.settle_steps - done);
+      const auto c0 = std::chrono::steady_clock::now();
+      m.sim().settle(n);
+      done += n;
+      const double took = seconds_since(c0);
+      chunk = next_chunk(n, took, chunk);
+      observer.settling(done, m.settle_steps);
+    }
+    settled = done;
+    log::info("settled for {} steps ({:.4g} s); the run starts from the settled state", m.settle_steps,
+              double(m.settle_steps) * m.dt);
+  }
+  observer.started(first * q, steps * q, dir);
   auto wall = [&] { return wall_before + seconds_since(t0); };
   auto finish_result = [&] {
     result.first_step = first * q;
@@ -110,7 +145,8 @@ RunResult Run::Impl::execute(RunObserver& observer) {
     result.wall_seconds = seconds_since(t0);
     const double n = m.has_particles() ? double(m.sim().particle_count()) : 0.0;
     result.particle_steps_per_s =
-        result.wall_seconds > 0 ? n * double(result.step - result.first_step) / result.wall_seconds : 0.0;
+        result.wall_seconds > 0 ? n * double(result.step - result.first_step + settled) / result.wall_seconds
+                                : 0.0;
     result.last_frame = out.last_frame();
     result.written = out.written();
     result.summary = out.summary();
@@ -158,9 +194,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
       const auto c0 = std::chrono::steady_clock::now();
       m.advance((to - s) * q);
       const double took = seconds_since(c0);
-      if (to - s == max_chunk || took > 0.25)
-        max_chunk = std::clamp<std::int64_t>(
-            took > 0 ? std::int64_t(double(to - s) * 0.25 / took) : 2 * max_chunk, 1, 1 << 20);
+      if (to - s == max_chunk || took > 0.25) max_chunk = next_chunk(to - s, took, max_chunk);
       observer.progress(m.step_count(), steps * q);
     }
   } catch (const Error& e) {

@@ -95,7 +95,7 @@ const std::string kMaterialKeys =
     "name, law, density, kn, ks, friction, tensile_strength, shear_strength, friction_strengthens_bonds, "
     "youngs_modulus, poisson_ratio";
 const std::string kSolverKeys =
-    "dt, dt_safety, steps, duration, damping, viscous_c, local_damping, gravity, contact_detection, "
+    "dt, dt_safety, steps, duration, settle, damping, viscous_c, local_damping, gravity, contact_detection, "
     "allow_unstable, threads, min_particles_per_thread, fem_integrator, eta, coupling";
 
 }  // namespace

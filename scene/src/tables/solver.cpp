@@ -36,6 +36,14 @@ TableSpec solver_spec() {
               .def("0")
               .doc("Number of time steps; when 0 the run lasts `duration`. Set steps or duration."),
           K("duration", Real, "s").ge(0).def("0.0").doc("Simulated time, used when steps = 0."),
+          K("settle", Real, "s")
+              .ge(0)
+              .def("0.0")
+              .doc("Length of a settling stage before the run (particle models): gravity and damping "
+                   "act while prescribed motions, moving walls and loads wait, each prescribed axis held "
+                   "where it is. The settled state is the start of the run: time, steps, displacements "
+                   "and work count from it, and bonds that broke while settling have negative steps. "
+                   "A layered cover settles under its weight before a wall shortens it. 0: none."),
           K("damping", Choice)
               .choices(words(kDamping))
               .def(R"("none")")
@@ -105,6 +113,7 @@ SolverTable read_solver(const Table& t) {
   read("dt_safety", s.dt_safety);
   read("steps", s.steps);
   read("duration", s.duration);
+  read("settle", s.settle);
   read("damping", s.damping, kDamping);
   read("viscous_c", s.viscous_c);
   read("local_damping", s.local_damping);

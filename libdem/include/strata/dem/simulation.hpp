@@ -207,6 +207,13 @@ class Simulation {
   /// pairs; the blow-up check still runs every energy_check_every steps): for callers that
   /// step one step at a time, such as the coupling. Positions and velocities are the same.
   void run(std::int64_t steps, bool energies = true);
+  /// A settling stage before the first step: n steps under gravity and damping while the
+  /// prescribed motions, moving walls and loads wait (each prescribed axis is held where it
+  /// is, walls stand, loads are zero). The settled state then becomes the start of the run:
+  /// displacements, time, step count and work are counted from it, and bonds that broke while
+  /// settling keep their break events with negative steps. Several calls settle on; the state
+  /// is the same as after one call with their total. Throws Input once the model has run.
+  void settle(std::int64_t steps);
   std::int64_t step_count() const;
   double time() const;
   /// Step of the last passed blow-up check.

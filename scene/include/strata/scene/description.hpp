@@ -242,6 +242,7 @@ struct SolverTable {
   Located<double> dt_safety;
   Located<std::int64_t> steps;  ///< 0: the run lasts `duration`
   Located<double> duration;     ///< s
+  Located<double> settle;       ///< s of settling before the run; 0: none
   Located<SolverDamping> damping;
   Located<double> viscous_c;  ///< N·s/m
   Located<double> local_damping;

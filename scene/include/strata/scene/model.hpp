@@ -158,7 +158,8 @@ struct BuiltModel {
   double dt = 0;
   bool dt_automatic = false;
   std::int64_t steps = 0;
-  int eta = 1;  ///< FEM step / DEM step of a coupled model
+  std::int64_t settle_steps = 0;  ///< steps of the settling stage before the run ([solver] settle)
+  int eta = 1;                    ///< FEM step / DEM step of a coupled model
   couple::Execution execution_mode = couple::Execution::Serial;
   double build_seconds = 0;
   PlatenProbe platens;

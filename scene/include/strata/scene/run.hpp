@@ -63,6 +63,9 @@ class RunObserver {
   virtual void restarted(std::int64_t step, double time, const std::filesystem::path& checkpoint) {
     (void)step, (void)time, (void)checkpoint;
   }
+  /// The settling stage ([solver] settle) has done `step` of its `steps`; called before it
+  /// starts and between its chunks.
+  virtual void settling(std::int64_t step, std::int64_t steps) { (void)step, (void)steps; }
   /// The time loop starts at `first` of `steps`, writing into `dir`.
   virtual void started(std::int64_t first, std::int64_t steps, const std::filesystem::path& dir) {
     (void)first, (void)steps, (void)dir;
