@@ -389,6 +389,14 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
     }
   }
   const RegionTable& pr = *first_particles;
+  // The overlap meshes its FEM side at the particle size; a far field of elements far smaller
+  // than the particles has no use, and at 1e-9 m gmsh would mesh for ever.
+  for (const auto& r : sc.regions)
+    if (r.kind == RegionKind::Fem && r.mesh_size > 0 && r.mesh_size < 0.1 * pr.diameter)
+      r.mesh_size.fail(fmt::format(
+          "mesh_size = {} m: the FEM far field of a coupled scene has elements at least a tenth of the "
+          "particle diameter ({} m); allowed: mesh_size >= {} m, or 0 to choose it automatically",
+          r.mesh_size.value, pr.diameter.value, 0.1 * pr.diameter.value));
   preprocess::OverlapOptions oo;
   std::string lattice = pr.lattice;
   if (lattice == "auto") lattice = dim == 2 ? "hex" : "hcp";

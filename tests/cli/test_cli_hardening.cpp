@@ -34,9 +34,15 @@ TEST(CliHardening, IntegersBeyondTheirRangeAreRefusedAtTheirKey) {
     EXPECT_EQ(r.status, 2) << set << ": " << r.output;
     EXPECT_TRUE(contains(r.output, "--set " + set + ": ")) << r.output;
   }
-  const auto r = strata("check " + kQuick + " --set solver.threads=4294967297");
+  const auto r = strata("check " + kQuick + " --set solver.min_particles_per_thread=4294967297");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(contains(r.output, "at most 2147483647")) << r.output;
+  // threads has its own bound, the thread pool's size.
+  const auto t = strata("check " + kQuick + " --set solver.threads=4294967297");
+  EXPECT_EQ(t.status, 2) << t.output;
+  EXPECT_TRUE(
+      contains(t.output, "--set solver.threads=4294967297: threads = 4294967297 must be >= 0 and <= 1024"))
+      << t.output;
   // The same numbers as options: refused by the option parser.
   EXPECT_EQ(strata("report wave --check --eta 4294967297").status, 2);
   EXPECT_EQ(strata("report chain6 --check --repeats 4294967297").status, 2);

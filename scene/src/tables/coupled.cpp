@@ -1,5 +1,7 @@
 // [coupled]: its keys, declared once (they validate scene files and generate
 // docs/scene-reference.md), and their reading into CoupledTable.
+#include <strata/core/parallel.hpp>
+
 #include "table_file.hpp"
 
 namespace strata::scene::tables {
@@ -160,6 +162,7 @@ TableSpec coupled_spec() {
               .doc("Runs per point; the fastest run time is reported."),
           K("threads", Integer)
               .ge(0)
+              .le(strata::par::kMaxThreads)
               .default_note("per case: chain6, metamaterial `0`; wave `1`")
               .doc("Threads for parallel loops (the wave: inside each partition; its models are small, "
                    "and a thread hand-off per step costs more than it saves); 0 uses all cores. "

@@ -1,5 +1,7 @@
 // [solver]: its keys, declared once (they validate scene files and generate
 // docs/scene-reference.md), and their reading into SolverTable.
+#include <strata/core/parallel.hpp>
+
 #include "table_file.hpp"
 
 namespace strata::scene::tables {
@@ -75,6 +77,7 @@ TableSpec solver_spec() {
               .doc("Run even when dt exceeds the critical time step, with a warning."),
           K("threads", Integer)
               .ge(0)
+              .le(strata::par::kMaxThreads)
               .def("0")
               .doc("Number of threads; 0 uses all cores. Results are the same for any number."),
           K("min_particles_per_thread", Integer)
