@@ -651,9 +651,11 @@ std::vector<double> strength_factors(StrengthSpread spread, double cov, std::siz
   return out;
 }
 
+std::int64_t steps_in(double seconds, double dt) { return std::int64_t(std::ceil(seconds / dt - 1e-9)); }
+
 std::int64_t step_count_of(const SolverTable& solver, double dt, int quantum) {
   const std::int64_t given = solver.steps;
-  std::int64_t steps = given > 0 ? given : std::int64_t(std::ceil(solver.duration / dt - 1e-9));
+  std::int64_t steps = given > 0 ? given : steps_in(solver.duration, dt);
   return (steps + quantum - 1) / quantum * quantum;  // whole system steps
 }
 
@@ -764,7 +766,7 @@ BuiltModel build_model(const Scene& sc, bool force) {
   sim.set_dt(dt);  // warns when above dt_crit and allowed
   m.dt = sim.dt();
   m.steps = step_count_of(solver, m.dt, 1);
-  m.settle_steps = std::int64_t(std::ceil(solver.settle / m.dt - 1e-9));
+  m.settle_steps = steps_in(solver.settle, m.dt);
   setup_platens(sc, m);
   m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return m;

@@ -33,6 +33,9 @@ dem::Settings dem_settings(const Scene& sc, bool force);
 /// in `m`. `d` gives up its eccentric bond lists.
 void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& sim, BuiltModel& m);
 
+/// Steps of dt that cover `seconds` (rounded up, a round-off short of a whole step ignored).
+std::int64_t steps_in(double seconds, double dt);
+
 /// solver.steps, or solver.duration / dt, rounded up to a multiple of `quantum`.
 std::int64_t step_count_of(const SolverTable& solver, double dt, int quantum);
 

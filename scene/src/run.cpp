@@ -108,36 +108,6 @@ RunResult Run::Impl::execute(RunObserver& observer) {
 
   const auto t0 = std::chrono::steady_clock::now();
   std::int64_t settled = 0;  // settling steps of this execution (in the step rate)
-  if (m.settle_steps > 0 && opt.restart.empty()) {
-    // The settling stage, in chunks of about 0.25 s so that a stop request is seen soon.
-    std::int64_t done = 0, chunk = 4;
-    observer.settling(0, m.settle_steps);
-    while (done < m.settle_steps) {
-      if (const int reason = observer.stop_requested()) {
-        out.finish(m, model, seconds_since(t0),
-                   fmt::format("interrupted by {} while settling, at step {} of {}", stop_name(reason), done,
-                               m.settle_steps));
-        result.status = RunStatus::Interrupted;
-        result.stop_reason = reason;
-        result.first_step = result.step = 0;
-        result.written = out.written();
-        result.summary = out.summary();
-        return result;
-      }
-      const std::int64_t n = std::min(chunk, m.settle_steps - done);
-      const auto c0 = std::chrono::steady_clock::now();
-      m.sim().settle(n);
-      done += n;
-      const double took = seconds_since(c0);
-      chunk = next_chunk(n, took, chunk);
-      observer.settling(done, m.settle_steps);
-    }
-    settled = done;
-    log::info("settled for {} steps ({:.4g} s); the run starts from the settled state", m.settle_steps,
-              double(m.settle_steps) * m.dt);
-  }
-  observer.started(first * q, steps * q, dir);
-  auto wall = [&] { return wall_before + seconds_since(t0); };
   auto finish_result = [&] {
     result.first_step = first * q;
     result.step = m.step_count();
@@ -152,6 +122,32 @@ RunResult Run::Impl::execute(RunObserver& observer) {
     result.summary = out.summary();
     return result;
   };
+  if (m.settle_steps > 0 && opt.restart.empty()) {
+    // The settling stage, in chunks of about 0.25 s so that a stop request is seen soon.
+    std::int64_t chunk = 4;
+    observer.settling(0, m.settle_steps);
+    while (settled < m.settle_steps) {
+      if (const int reason = observer.stop_requested()) {
+        out.finish(m, model, seconds_since(t0),
+                   fmt::format("interrupted by {} while settling, at step {} of {}", stop_name(reason),
+                               settled, m.settle_steps));
+        result.status = RunStatus::Interrupted;
+        result.stop_reason = reason;
+        return finish_result();
+      }
+      const std::int64_t n = std::min(chunk, m.settle_steps - settled);
+      const auto c0 = std::chrono::steady_clock::now();
+      m.sim().settle(n);
+      settled += n;
+      const double took = seconds_since(c0);
+      chunk = next_chunk(n, took, chunk);
+      observer.settling(settled, m.settle_steps);
+    }
+    log::info("settled for {} steps ({:.4g} s); the run starts from the settled state", m.settle_steps,
+              double(m.settle_steps) * m.dt);
+  }
+  observer.started(first * q, steps * q, dir);
+  auto wall = [&] { return wall_before + seconds_since(t0); };
   const double stop_after_peak = sc.probe.stop_after_peak;
   std::int64_t max_chunk = 4;  // steps per run() call, adapted to ~0.25 s so signals are seen soon
   try {

@@ -7,6 +7,7 @@
 #include <strata/scene/run.hpp>
 #include <strata/scene/scene.hpp>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -122,6 +123,27 @@ TEST(SceneSettle, RunSettlesFirstAndARestartDoesNotSettleAgain) {
   EXPECT_EQ(t.step, 800);
   EXPECT_EQ(t.summary["state_hash"], s.summary["state_hash"]);
   fs::remove_all(a), fs::remove_all(b), fs::remove(scene);
+}
+
+// A stop request while settling ends the run there: interrupted, at step 0, and summary.json
+// says so.
+TEST(SceneSettle, AStopRequestWhileSettlingEndsTheRun) {
+  class StopAtOnce : public Settling {
+   public:
+    int stop_requested() override { return calls > 0 ? SIGINT : 0; }
+  };
+  const fs::path scene = fresh("stop.toml");
+  { std::ofstream(scene) << kSettling; }
+  const fs::path dir = fresh("stop");
+  strata::scene::Run run(strata::scene::load(scene, {}), {dir, false, {}});
+  StopAtOnce observer;
+  const RunResult r = run.execute(observer);
+  EXPECT_EQ(r.status, strata::scene::RunStatus::Interrupted);
+  EXPECT_EQ(r.stop_reason, SIGINT);
+  EXPECT_EQ(r.step, 0);
+  EXPECT_EQ(observer.last, 0) << "stopped before the first chunk";
+  EXPECT_EQ(r.summary["status"], "interrupted by SIGINT while settling, at step 0 of 10000");
+  fs::remove_all(dir), fs::remove(scene);
 }
 
 TEST(SceneSettle, ScenesWithFemRegionsRefuseItAtItsLine) {
