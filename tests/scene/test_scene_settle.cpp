@@ -135,7 +135,8 @@ TEST(SceneSettle, AStopRequestWhileSettlingEndsTheRun) {
   const fs::path scene = fresh("stop.toml");
   { std::ofstream(scene) << kSettling; }
   const fs::path dir = fresh("stop");
-  strata::scene::Run run(strata::scene::load(scene, {}), {dir, false, {}});
+  const auto sc = strata::scene::load(scene, {});  // the run keeps a reference to it
+  strata::scene::Run run(sc, {dir, false, {}});
   StopAtOnce observer;
   const RunResult r = run.execute(observer);
   EXPECT_EQ(r.status, strata::scene::RunStatus::Interrupted);

@@ -83,8 +83,10 @@ class Run {
  public:
   /// Builds and checks the model; opens and checks `opt.restart`. Throws strata::Error
   /// (Input) for a scene that cannot run (dt above dt_crit without `force`, a checkpoint of
-  /// another scene, ...). Nothing is written.
+  /// another scene, ...). Nothing is written. The run keeps a reference to `sc`, which must
+  /// outlive it (a temporary scene is refused at compile time).
   Run(const Scene& sc, RunOptions opt);
+  Run(Scene&&, RunOptions) = delete;
   ~Run();
   Run(const Run&) = delete;
   Run& operator=(const Run&) = delete;
