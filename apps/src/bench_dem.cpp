@@ -2,6 +2,7 @@
 #include "bench_dem.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/preprocess/lattice.hpp>
@@ -38,6 +39,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   s.viscous_c = 1.16e3;
   s.contact_detection = true;
 
+  log::Phases ph("bench dem set-up");
   preprocess::Lattice lat;
   const double side = preprocess::box_side_for(o.dim, o.particles, d);
   if (o.dim == 2)
@@ -47,6 +49,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
         preprocess::close_packed_box(o.lattice == "hcp" ? preprocess::Packing::HCP : preprocess::Packing::FCC,
                                      {0, 0, 0}, {side, side, side}, d);
   const auto top = preprocess::top_row(lat), bottom = preprocess::bottom_row(lat);
+  ph.lap("lattice");
 
   dem::Simulation sim(o.dim, s);
   const int mat = sim.add_material(m);
@@ -54,6 +57,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
   const std::size_t n = lat.size();
   lat.release();
+  ph.lap("particles added");
   sim.add_to_group(top, "top");
   sim.add_to_group(bottom, "bottom");
   const unsigned ax = o.dim == 2 ? dem::kY : dem::kZ;

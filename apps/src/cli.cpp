@@ -159,7 +159,7 @@ int main(int argc, char** argv) {
   render->add_option("--field", ropt.field,
                      "Array to colour by (default: damage for particles, displacement for a FEM series)");
   render->add_option("--size", ropt.size, "Picture size in pixels: W H")->expected(2);
-  render->add_flag("--no-movie", ropt.no_movie, "Do not write an MP4 even when ffmpeg is installed");
+  render->add_flag("--no-movie", ropt.no_movie, "Do not join the pictures into a movie");
   render->add_option("--mesh", ropt.mesh, "FEM series (.pvd of .vtu frames) drawn under the particles")
       ->check(CLI::ExistingFile);
   render->add_flag("--contacts", ropt.contacts, "Also draw contacts (state 4 lines of bonds.pvd)");

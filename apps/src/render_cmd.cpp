@@ -84,8 +84,9 @@ int render_series_cmd(const RenderOptions& opt) {
       if (std::filesystem::exists(opt.series.parent_path() / name)) *path = opt.series.parent_path() / name;
   const auto pngs = io::render_series(series, dir, style);
   std::printf("wrote %zu pictures in %s\n", pngs.size(), dir.string().c_str());
-  if (!opt.no_movie && io::make_movie(dir, dir / "movie.mp4"))
-    std::printf("wrote %s\n", (dir / "movie.mp4").string().c_str());
+  if (!opt.no_movie && !pngs.empty())
+    if (const auto movie = io::make_movie(dir, dir / "movie"); !movie.empty())
+      std::printf("wrote %s\n", movie.string().c_str());
   return 0;
 #else
   (void)opt;

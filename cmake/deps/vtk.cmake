@@ -7,7 +7,7 @@ if(STRATA_WITH_VTK)
   set(_vtk_components CommonCore CommonDataModel IOXML IOLegacy)
   if(STRATA_WITH_RENDER)
     list(APPEND _vtk_components RenderingCore RenderingOpenGL2 RenderingAnnotation RenderingContext2D
-         RenderingContextOpenGL2 RenderingFreeType InteractionStyle ChartsCore ViewsContext2D IOImage
+         RenderingContextOpenGL2 RenderingFreeType InteractionStyle ChartsCore ViewsContext2D IOImage IOMovie IOOggTheora
          FiltersSources FiltersCore FiltersGeneral)
   endif()
   find_package(VTK 9.1 REQUIRED COMPONENTS ${_vtk_components})

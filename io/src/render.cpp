@@ -36,10 +36,13 @@
 #include <vtkGlyph3DMapper.h>
 #include <vtkIdList.h>
 #include <vtkIdTypeArray.h>
+#include <vtkImageData.h>
 #include <vtkLight.h>
 #include <vtkLineSource.h>
 #include <vtkLookupTable.h>
 #include <vtkNew.h>
+#include <vtkOggTheoraWriter.h>
+#include <vtkPNGReader.h>
 #include <vtkPNGWriter.h>
 #include <vtkPlane.h>
 #include <vtkPointData.h>
@@ -1204,28 +1207,23 @@ std::vector<fs::path> render_series(const SeriesPaths& series, const fs::path& o
   return render_frames(files, out_dir, style, stop);
 }
 
-bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
-  std::string ffmpeg;
-  {
-    const char* path = std::getenv("PATH");
-    std::stringstream ss(path ? path : "/usr/bin:/bin");
-    for (std::string dir; std::getline(ss, dir, ':');) {
-      const std::string full = (dir.empty() ? std::string(".") : dir) + "/ffmpeg";
-      struct stat st {};
-      if (::stat(full.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(full.c_str(), X_OK) == 0) {
-        ffmpeg = full;
-        break;
-      }
-    }
+namespace {
+
+// ffmpeg on PATH, or "".
+std::string find_ffmpeg() {
+  const char* path = std::getenv("PATH");
+  std::stringstream ss(path ? path : "/usr/bin:/bin");
+  for (std::string dir; std::getline(ss, dir, ':');) {
+    const std::string full = (dir.empty() ? std::string(".") : dir) + "/ffmpeg";
+    struct stat st {};
+    if (::stat(full.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(full.c_str(), X_OK) == 0)
+      return full;
   }
-  if (ffmpeg.empty()) {
-    log::info("ffmpeg is not installed: no movie {}; the PNG frames are kept in {}", mp4.string(),
-              png_dir.string());
-    return false;
-  }
-  STRATA_CHECK(fs::exists(png_dir / "frame_000000.png"), IO, "make_movie: no {}",
-               (png_dir / "frame_000000.png").string());
-  detail::make_parent(mp4);
+  return {};
+}
+
+// H.264 through ffmpeg; false (logged) when ffmpeg fails.
+bool ffmpeg_movie(const std::string& ffmpeg, const fs::path& png_dir, const fs::path& mp4, int fps) {
   const auto tmp = fs::path(mp4.string() + ".tmp");
   const std::string pattern = (png_dir / "frame_%06d.png").string(), rate = std::to_string(fps);
   std::vector<std::string> args = {ffmpeg,
@@ -1270,8 +1268,74 @@ bool make_movie(const fs::path& png_dir, const fs::path& mp4, int fps) {
     return false;
   }
   detail::commit(tmp, mp4);
-  log::info("wrote movie {}", mp4.string());
   return true;
+}
+
+// Ogg Theora through VTK, frame by frame: the frames are read one at a time, so a long
+// series costs the memory of one picture. Their sizes are checked from the PNG headers
+// before anything is written.
+void theora_movie(const fs::path& png_dir, const fs::path& ogv, int fps) {
+  std::vector<fs::path> pngs;
+  for (int k = 0;; ++k) {
+    fs::path png = png_dir / fmt::format("frame_{:06d}.png", k);
+    if (!fs::exists(png)) break;
+    pngs.push_back(std::move(png));
+  }
+  vtkNew<vtkPNGReader> reader;
+  int size[2] = {0, 0};
+  for (const fs::path& png : pngs) {
+    reader->SetFileName(png.c_str());
+    reader->UpdateInformation();
+    int ext[6];
+    reader->GetDataExtent(ext);
+    const int w = ext[1] - ext[0] + 1, h = ext[3] - ext[2] + 1;
+    if (&png == &pngs.front()) size[0] = w, size[1] = h;
+    STRATA_CHECK(w == size[0] && h == size[1], IO,
+                 "make_movie: {} is {} x {} pixels, the first frame {} x {}: a movie's frames share one size",
+                 png.string(), w, h, size[0], size[1]);
+  }
+  const auto tmp = fs::path(ogv.string() + ".tmp");
+  try {
+    vtkNew<vtkOggTheoraWriter> writer;
+    writer->SetInputConnection(reader->GetOutputPort());
+    writer->SetFileName(tmp.c_str());
+    writer->SetRate(fps);
+    writer->SetQuality(2);      // the highest of VTK's three: crack lines stay sharp
+    writer->SetSubsampling(1);  // 4:2:0, what every Theora player decodes (and a third faster)
+    for (const fs::path& png : pngs) {
+      reader->SetFileName(png.c_str());
+      if (&png == &pngs.front()) writer->Start();
+      writer->Write();
+      STRATA_CHECK(writer->GetError() == 0, IO, "make_movie: the Theora encoder failed on {}", png.string());
+    }
+    writer->End();
+    STRATA_CHECK(fs::exists(tmp), IO, "make_movie: the Theora encoder wrote no {}", tmp.string());
+  } catch (...) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw;
+  }
+  detail::commit(tmp, ogv);
+}
+
+}  // namespace
+
+fs::path make_movie(const fs::path& png_dir, const fs::path& stem, int fps) {
+  STRATA_CHECK(fs::exists(png_dir / "frame_000000.png"), IO, "make_movie: no {}",
+               (png_dir / "frame_000000.png").string());
+  STRATA_CHECK(fps >= 1 && fps <= 1000, Input, "make_movie: {} frames per second must be in [1, 1000]", fps);
+  detail::make_parent(stem);
+  const std::string ffmpeg = find_ffmpeg();
+  fs::path movie = stem;
+  if (!ffmpeg.empty()) {
+    movie.replace_extension(".mp4");
+    if (!ffmpeg_movie(ffmpeg, png_dir, movie, fps)) return {};
+  } else {
+    movie.replace_extension(".ogv");
+    theora_movie(png_dir, movie, fps);
+  }
+  log::info("wrote movie {}", movie.string());
+  return movie;
 }
 
 #else  // !STRATA_WITH_RENDER
@@ -1285,7 +1349,7 @@ std::vector<fs::path> render_series(const SeriesPaths&, const fs::path&, const R
                                     const std::function<bool()>&) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
-bool make_movie(const fs::path&, const fs::path&, int) {
+fs::path make_movie(const fs::path&, const fs::path&, int) {
   fail_missing_feature("STRATA_WITH_RENDER", "rendering pictures");
 }
 

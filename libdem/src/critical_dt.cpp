@@ -2,6 +2,8 @@
 // lattice, from a rigorous node-local bound and a Lanczos estimate (docs/dem.md).
 #include "model.hpp"
 
+#include <strata/core/log.hpp>
+
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -123,7 +125,10 @@ void Model<D>::compute_critical_dt() {
   double wall_lambda = 0;
   for (const Wall& w : walls) wall_lambda += w.k * imax;
   lam_bound = bound;
+  log::Phases ph("critical time step");
   lam_est = npairs > 0 ? lanczos() : 0.0;
+  ph.lap("Lanczos estimate");
+  log::debug("critical time step: largest eigenvalue {:.17g} (Lanczos), {:.17g} (bound)", lam_est, lam_bound);
   double lam = npairs > 0 ? std::min(bound, 1.01 * lam_est) : contact_bound;
   if (npairs == 0) lam_bound = contact_bound;
   lam += wall_lambda;

@@ -66,15 +66,18 @@ void Model<D>::initialise() {
   STRATA_CHECK(settings.local_alpha >= 0 && settings.local_alpha < 1, Input,
                "local_alpha = {} must be in [0, 1)", settings.local_alpha);
   STRATA_CHECK(settings.viscous_c >= 0, Input, "viscous_c = {} must be >= 0 (N·s/m)", settings.viscous_c);
-  if (!sorted) sort_particles();
+  log::Phases ph("DEM set-up");
+  if (!sorted) sort_particles(), ph.lap("spatial order");
   refresh_laws();
   resolve_bcs();
   acc.assign(static_cast<std::size_t>((n() + kBlock - 1) / kBlock), BlockAcc{});
   const double rmax = *std::max_element(rad.begin(), rad.end());
   skin = settings.skin > 0 ? settings.skin : 0.5 * rmax;
   contacts_on = settings.contact_detection;
-  if (contacts_on) rebuild_contacts();
+  ph.lap("laws and boundary conditions");
+  if (contacts_on) rebuild_contacts(), ph.lap("contact list");
   compute_critical_dt();
+  ph.lap("critical time step");
   check_dt();
   for (int a = 0; a < D; ++a) {  // allocated after the time-step estimate's temporaries
     x0[a] = x[a];
@@ -83,7 +86,9 @@ void Model<D>::initialise() {
   // energy budget of the blow-up check: initial kinetic + stored energy
   energy_budget0 = dry_kinetic() + dry_bond_energy();
   energy_tiny = static_cast<double>(n()) * 0.5 * max_stiffness() * std::pow(1e-6 * 2 * rmax, 2);
+  ph.lap("energy budget");
   build_plan(par::threads());
+  ph.lap("thread plan");
   initialised = true;
   last_good = step_;
 }

@@ -4,6 +4,7 @@
 #include "model.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/core/log.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -113,9 +114,11 @@ void Model<D>::bond_touching_pairs(double tol) {
   STRATA_CHECK(tol >= 0 && tol < 1, Input, "bond_touching_pairs: tolerance {} must be in [0, 1)", tol);
   STRATA_CHECK(!initialised, Input, "bond_touching_pairs: call it before initialise()");
   if (n() == 0) return;
-  if (!sorted) sort_particles();
+  log::Phases ph("DEM bonds");
+  if (!sorted) sort_particles(), ph.lap("spatial order");
   const double rmax = *std::max_element(rad.begin(), rad.end());
   const Grid g = build_grid(2 * rmax * (1 + tol));
+  ph.lap("cell grid");
   const double f1 = (1 + tol) * (1 + tol);
   PairList L = build_pairs(g, [&](std::size_t p, std::uint32_t q) {
     const double r = rad[p] + rad[q];
@@ -124,6 +127,7 @@ void Model<D>::bond_touching_pairs(double tol) {
   L.st.assign(L.size(), pair_state::kIntact);
   L.us.assign(L.size() * kNs, 0.0);
   bonds = std::move(L);
+  ph.lap("touching pairs");
 }
 
 template <int D>

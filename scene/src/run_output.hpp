@@ -466,8 +466,9 @@ class RunOutput {
       } else {
         written_.push_back(dir_ / "png" / "");
       }
-      if (out_.movie && !stop() && io::make_movie(dir_ / "png", dir_ / "movie.mp4"))
-        written_.push_back(dir_ / "movie.mp4");
+      if (out_.movie && !stop())
+        if (const fs::path movie = io::make_movie(dir_ / "png", dir_ / "movie"); !movie.empty())
+          written_.push_back(movie);
     }
 #else
     (void)sc;

@@ -72,6 +72,8 @@ TEST(Examples, UniaxialCompressionQuick) {
   for (const char* f : {"particles.pvd", "bonds.pvd", "probes.csv", "breaks.csv", "summary.json",
                         "stress_strain.png", "png/frame_000000.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
+  // the pictures joined into a movie: H.264 where ffmpeg is installed, else Ogg Theora
+  EXPECT_TRUE(fs::exists(out / "movie.mp4") || fs::exists(out / "movie.ogv"));
 
   const auto probes = strata::io::read_csv(out / "probes.csv");
   const auto& strain = probes.column("strain");

@@ -1,5 +1,6 @@
 // Tests of the io library's pictures: headless display, rendered frames and plots, read back
 // with vtkPNGReader and checked pixel by pixel.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>
@@ -558,28 +559,84 @@ TEST_F(IoTest, RenderSeriesGivesOnePicturePerFrame) {
   }
 }
 
-TEST_F(IoTest, MakeMovieUsesFfmpegOnlyWhenInstalled) {
+namespace {
+
+// The fields of an Ogg Theora stream that say what it holds: the picture size and frame
+// rate from the identification header, and the frame count from the granule position of
+// the last Ogg page (the Theora specification, sections 6.2 and A.2).
+struct TheoraInfo {
+  bool ok = false;
+  int width = 0, height = 0;
+  std::uint32_t rate_num = 0, rate_den = 0;
+  std::int64_t frames = 0;
+};
+
+TheoraInfo theora_info(const std::string& b) {
+  TheoraInfo t;
+  const auto at = b.find("\x80theora");
+  if (b.rfind("OggS", 0) != 0 || at == std::string::npos || at + 42 > b.size()) return t;
+  auto u = [&](std::size_t i) { return static_cast<std::uint32_t>(static_cast<unsigned char>(b[at + i])); };
+  const bool counts_from_one = u(7) > 3 || (u(7) == 3 && (u(8) > 2 || (u(8) == 2 && u(9) >= 1)));
+  t.width = static_cast<int>(u(14) << 16 | u(15) << 8 | u(16));
+  t.height = static_cast<int>(u(17) << 16 | u(18) << 8 | u(19));
+  t.rate_num = u(22) << 24 | u(23) << 16 | u(24) << 8 | u(25);
+  t.rate_den = u(26) << 24 | u(27) << 16 | u(28) << 8 | u(29);
+  const int shift = static_cast<int>(((u(40) & 0x03) << 3) | (u(41) >> 5));
+  const auto last = b.rfind("OggS");
+  if (last == std::string::npos || last + 14 > b.size()) return t;
+  std::uint64_t gp = 0;
+  for (int k = 7; k >= 0; --k)
+    gp = gp << 8 | static_cast<unsigned char>(b[last + 6 + static_cast<std::size_t>(k)]);
+  const auto g = static_cast<std::int64_t>(gp);
+  t.frames = (g >> shift) + (g & ((std::int64_t{1} << shift) - 1)) + (counts_from_one ? 0 : 1);
+  t.ok = true;
+  return t;
+}
+
+}  // namespace
+
+TEST_F(IoTest, MakeMovieWritesTheoraWithoutFfmpegAndMp4WithIt) {
   auto p = hex_patch(4, 4);
   RenderRequest rq;
   rq.particles = &p.cloud;
-  rq.png = dir_ / "png" / "frame_000000.png";
-  rq.style.width = 64;
-  rq.style.height = 48;
-  render_frame(rq);
+  rq.style.width = 70;  // not a multiple of Theora's 16-pixel blocks
+  rq.style.height = 50;
+  for (int k = 0; k < 3; ++k) {
+    rq.png = dir_ / "png" / fmt::format("frame_{:06d}.png", k);
+    render_frame(rq);
+  }
   const std::string old_path = std::getenv("PATH") ? std::getenv("PATH") : "";
   fs::create_directories(dir_ / "bin");
   ::setenv("PATH", (dir_ / "bin").c_str(), 1);
-  EXPECT_FALSE(make_movie(dir_ / "png", dir_ / "movie.mp4"));
-  EXPECT_FALSE(fs::exists(dir_ / "movie.mp4"));
+  // no ffmpeg: VTK's Theora encoder, three frames of 70 x 50 at 12 per second
+  const fs::path ogv = make_movie(dir_ / "png", dir_ / "movie", 12);
+  EXPECT_EQ(ogv, dir_ / "movie.ogv");
+  const TheoraInfo t = theora_info(slurp(dir_ / "movie.ogv"));
+  ASSERT_TRUE(t.ok) << "not an Ogg Theora stream";
+  EXPECT_EQ(t.width, 70);
+  EXPECT_EQ(t.height, 50);
+  EXPECT_EQ(double(t.rate_num) / t.rate_den, 12.0);
+  EXPECT_EQ(t.frames, 3);
+  EXPECT_FALSE(fs::exists(dir_ / "movie.ogv.tmp"));
   EXPECT_TRUE(fs::exists(rq.png));  // frames kept
+  // frames of different sizes are refused, and nothing is left behind
+  rq.style.width = 80;
+  rq.png = dir_ / "odd" / "frame_000000.png";
+  render_frame(rq);
+  rq.style.width = 90;
+  rq.png = dir_ / "odd" / "frame_000001.png";
+  render_frame(rq);
+  EXPECT_THROW(make_movie(dir_ / "odd", dir_ / "odd_movie"), strata::Error);
+  EXPECT_FALSE(fs::exists(dir_ / "odd_movie.ogv"));
+  EXPECT_FALSE(fs::exists(dir_ / "odd_movie.ogv.tmp"));
   // A stand-in ffmpeg that records its arguments and writes its last one.
   const auto fake = dir_ / "bin" / "ffmpeg";
   std::ofstream(fake) << "#!/bin/sh\necho \"$@\" > \"" << (dir_ / "args.txt").string()
                       << "\"\nfor a; do last=$a; done\necho movie > \"$last\"\n";
   fs::permissions(fake, fs::perms::owner_all);
-  const bool made = make_movie(dir_ / "png", dir_ / "movie.mp4");
+  const fs::path mp4 = make_movie(dir_ / "png", dir_ / "movie");
   ::setenv("PATH", old_path.c_str(), 1);
-  EXPECT_TRUE(made);
+  EXPECT_EQ(mp4, dir_ / "movie.mp4");
   EXPECT_TRUE(fs::exists(dir_ / "movie.mp4"));
   const std::string args = slurp(dir_ / "args.txt");
   EXPECT_NE(args.find("libx264"), std::string::npos) << args;

@@ -57,6 +57,7 @@ TEST(RunStops, CtrlCWhileDrawingStopsTheDrawingAndSaysSo) {
   EXPECT_EQ(r.step, 400) << "every step was done before the pictures";
   EXPECT_EQ(count_png(dir / "png"), 1u) << "frame 0 drawn, frames 1 to 4 not";
   EXPECT_FALSE(fs::exists(dir / "movie.mp4"));
+  EXPECT_FALSE(fs::exists(dir / "movie.ogv"));
   std::ifstream f(dir / "summary.json");
   EXPECT_EQ(nlohmann::json::parse(f)["status"], "completed") << "the run itself completed";
   fs::remove_all(dir);

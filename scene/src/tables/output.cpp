@@ -54,7 +54,10 @@ TableSpec output_spec() {
               .choices({"id", "radius", "displacement", "velocity", "force", "group", "damage"})
               .def(R"(["id", "radius", "displacement", "velocity", "force", "group", "damage"])")
               .doc("Per-particle fields written to the VTK frames."),
-          K("movie", Bool).def("true").doc("Join the pictures into an MP4 movie when ffmpeg is installed."),
+          K("movie", Bool)
+              .def("true")
+              .doc("Join the pictures into a movie: movie.mp4 (H.264) when ffmpeg is installed, otherwise "
+                   "movie.ogv (Ogg Theora, written by VTK)."),
           K("render_while_running", Bool)
               .def("false")
               .doc("Render each frame to PNG as soon as it is written, so pictures of a long run can be "

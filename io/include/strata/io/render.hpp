@@ -125,10 +125,14 @@ std::vector<std::filesystem::path> render_frames(const FrameFiles& files,
                                                  const RenderStyle& style,
                                                  const std::function<bool()>& stop = {});
 
-/// Encodes `<png_dir>/frame_%06d.png` into an H.264 movie (libx264, yuv420p, padded to
-/// even size) when `ffmpeg` is on PATH; otherwise logs that ffmpeg is not installed and
-/// the PNGs are kept. Returns whether the movie was written.
-bool make_movie(const std::filesystem::path& png_dir, const std::filesystem::path& mp4, int fps = 20);
+/// Joins `<png_dir>/frame_%06d.png` (frames of one size) into a movie of `fps` frames per
+/// second: `<stem>.mp4` (H.264, yuv420p, padded to even size) when `ffmpeg` is on PATH,
+/// otherwise `<stem>.ogv` (Ogg Theora, VTK's own encoder: every build with pictures can
+/// make one; ParaView, VLC and web browsers play it). Written under a temporary name and
+/// renamed when complete. Returns the movie's path; empty when ffmpeg failed (the PNGs
+/// are kept and the failure is logged).
+std::filesystem::path make_movie(const std::filesystem::path& png_dir, const std::filesystem::path& stem,
+                                 int fps = 20);
 
 /// "1.23 ms", "45.6 µs", "2.5 s": a time with an SI prefix and 3 significant digits.
 std::string format_time(double seconds);

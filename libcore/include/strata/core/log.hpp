@@ -2,6 +2,9 @@
 /// Logging through spdlog: one logger named "strata" writing to stderr.
 #include <spdlog/spdlog.h>
 
+#include <chrono>
+#include <string>
+
 namespace strata::log {
 
 /// Verbosity of the `strata` command.
@@ -29,4 +32,24 @@ template <typename... Args>
 void error(spdlog::format_string_t<Args...> f, Args&&... args) {
   get().error(f, std::forward<Args>(args)...);
 }
+
+/// Wall time of the phases of a task, each written at debug level (`strata -v`) as it ends:
+/// `Phases ph("set-up"); ...; ph.lap("bonds");` logs "set-up: bonds 1.23 s".
+class Phases {
+ public:
+  explicit Phases(std::string task) : task_(std::move(task)), t_(Clock::now()) {}
+  /// Logs the time since the last lap (or the start) under `phase`; returns it in seconds.
+  double lap(const char* phase) {
+    const auto now = Clock::now();
+    const double s = std::chrono::duration<double>(now - t_).count();
+    t_ = now;
+    debug("{}: {} {:.3g} s", task_, phase, s);
+    return s;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::string task_;
+  Clock::time_point t_;
+};
 }  // namespace strata::log
