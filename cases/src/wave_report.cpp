@@ -9,6 +9,7 @@
 #include <strata/core/parallel.hpp>
 #include <strata/couple/dem_partition.hpp>
 #include <strata/couple/fem_partition.hpp>
+#include <strata/dem/lattice_elastic.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
@@ -443,10 +444,11 @@ WaveModel build_wave_model(const WaveOptions& opt) {
   m.ks = kKs;
   m.rho = kRho;
   // Hexagonal lattice constants (Liu, Pollard & Shi 2013), plane stress per unit thickness
-  m.E = 2 * std::sqrt(3.0) * m.kn * (m.kn + m.ks) / (3 * m.kn + m.ks);
-  m.nu = (m.kn - m.ks) / (3 * m.kn + m.ks);
+  const dem::LatticeElastic el = dem::hex_elastic(m.kn, m.ks);
+  m.E = el.E;
+  m.nu = el.nu;
   m.c = std::sqrt(m.E / ((1 - m.nu * m.nu) * m.rho));
-  const double mass = m.rho * std::sqrt(3.0) / 2 * m.d * m.d;
+  const double mass = dem::lattice_particle_mass(2, m.rho, m.d);
   m.dem_dt_crit = 2 / std::sqrt(dem::hex_lattice_lambda_max(m.kn, m.ks, mass));
   m.dt_dem = opt.dt_fraction * m.dem_dt_crit;
 
