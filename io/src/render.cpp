@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -1282,17 +1283,19 @@ void theora_movie(const fs::path& png_dir, const fs::path& ogv, int fps) {
     pngs.push_back(std::move(png));
   }
   vtkNew<vtkPNGReader> reader;
-  int size[2] = {0, 0};
-  for (const fs::path& png : pngs) {
+  auto size_of = [&](const fs::path& png) {
     reader->SetFileName(png.c_str());
     reader->UpdateInformation();
     int ext[6];
     reader->GetDataExtent(ext);
-    const int w = ext[1] - ext[0] + 1, h = ext[3] - ext[2] + 1;
-    if (&png == &pngs.front()) size[0] = w, size[1] = h;
-    STRATA_CHECK(w == size[0] && h == size[1], IO,
+    return std::array<int, 2>{ext[1] - ext[0] + 1, ext[3] - ext[2] + 1};
+  };
+  const std::array<int, 2> size = size_of(pngs.front());
+  for (const fs::path& png : pngs) {
+    const std::array<int, 2> s = size_of(png);
+    STRATA_CHECK(s == size, IO,
                  "make_movie: {} is {} x {} pixels, the first frame {} x {}: a movie's frames share one size",
-                 png.string(), w, h, size[0], size[1]);
+                 png.string(), s[0], s[1], size[0], size[1]);
   }
   const auto tmp = fs::path(ogv.string() + ".tmp");
   try {
@@ -1302,9 +1305,10 @@ void theora_movie(const fs::path& png_dir, const fs::path& ogv, int fps) {
     writer->SetRate(fps);
     writer->SetQuality(2);      // the highest of VTK's three: crack lines stay sharp
     writer->SetSubsampling(1);  // 4:2:0, what every Theora player decodes (and a third faster)
+    reader->SetFileName(pngs.front().c_str());
+    writer->Start();
     for (const fs::path& png : pngs) {
       reader->SetFileName(png.c_str());
-      if (&png == &pngs.front()) writer->Start();
       writer->Write();
       STRATA_CHECK(writer->GetError() == 0, IO, "make_movie: the Theora encoder failed on {}", png.string());
     }

@@ -67,7 +67,10 @@ void Model<D>::initialise() {
                "local_alpha = {} must be in [0, 1)", settings.local_alpha);
   STRATA_CHECK(settings.viscous_c >= 0, Input, "viscous_c = {} must be >= 0 (N·s/m)", settings.viscous_c);
   log::Phases ph("DEM set-up");
-  if (!sorted) sort_particles(), ph.lap("spatial order");
+  if (!sorted) {
+    sort_particles();
+    ph.lap("spatial order");
+  }
   refresh_laws();
   resolve_bcs();
   acc.assign(static_cast<std::size_t>((n() + kBlock - 1) / kBlock), BlockAcc{});
@@ -75,7 +78,10 @@ void Model<D>::initialise() {
   skin = settings.skin > 0 ? settings.skin : 0.5 * rmax;
   contacts_on = settings.contact_detection;
   ph.lap("laws and boundary conditions");
-  if (contacts_on) rebuild_contacts(), ph.lap("contact list");
+  if (contacts_on) {
+    rebuild_contacts();
+    ph.lap("contact list");
+  }
   compute_critical_dt();
   ph.lap("critical time step");
   check_dt();

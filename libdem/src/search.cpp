@@ -115,7 +115,10 @@ void Model<D>::bond_touching_pairs(double tol) {
   STRATA_CHECK(!initialised, Input, "bond_touching_pairs: call it before initialise()");
   if (n() == 0) return;
   log::Phases ph("DEM bonds");
-  if (!sorted) sort_particles(), ph.lap("spatial order");
+  if (!sorted) {
+    sort_particles();
+    ph.lap("spatial order");
+  }
   const double rmax = *std::max_element(rad.begin(), rad.end());
   const Grid g = build_grid(2 * rmax * (1 + tol));
   ph.lap("cell grid");
