@@ -26,6 +26,8 @@ double hash_unit(std::uint64_t k) {
 
 // Margin of the time step over the Lanczos estimate: λ = min(bound, (1 + kMargin)·θ).
 constexpr double kMargin = 0.01;
+// Particles per chunk of the parallel set-up loops of the bound and the Lanczos products.
+constexpr std::size_t kChunkP = 1024;
 // Fewest Lanczos steps before the residual may stop the iteration (large models).
 constexpr int kMinSteps = 10;
 
@@ -109,32 +111,72 @@ void Model<D>::compute_critical_dt() {
   const std::size_t N = n();
   // rigorous bound: uᵀKu <= Σ_b 2(u_iᵀK_b u_i + u_jᵀK_b u_j) => λ <= max_i λmax(2ΣK_b)/m_i
   // (ΣK_b kept in float, upper triangle only, to keep the set-up's memory peak low; the
-  // result is raised by 1e-5 to cover the float round-off)
+  // result is raised by 1e-5 to cover the float round-off). In parallel over chunks of
+  // particles with the sums of a serial pass over owners in order, so the same bits for any
+  // thread count: each entry first gets the terms of pairs owned in earlier chunks (formed
+  // in a first pass and handed over in owner order), then those of its own chunk.
   constexpr int kSym = D * (D + 1) / 2;
-  std::vector<float> S(N * kSym, 0.0f);
-  std::size_t npairs = 0;
-  for (std::size_t p = 0; p < N; ++p)
-    stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
-      double K[D][D];
-      pair_matrix(pp, j, k, K);
-      int e = 0;
-      for (int a = 0; a < D; ++a)
-        for (int b2 = a; b2 < D; ++b2, ++e) {
-          S[pp * kSym + e] += static_cast<float>(K[a][b2]);
-          S[std::size_t{j} * kSym + e] += static_cast<float>(K[a][b2]);
-        }
-      ++npairs;
-    });
-  double bound = 0;
-  for (std::size_t i = 0; i < N; ++i) {
-    Eigen::Matrix<double, D, D> M;
+  struct Term {
+    std::uint32_t j;
+    float k[kSym];
+  };
+  auto upper = [&](std::size_t p, std::uint32_t j, const PairStiffness& k, Term& t) {
+    double K[D][D];
+    pair_matrix(p, j, k, K);
     int e = 0;
     for (int a = 0; a < D; ++a)
-      for (int b2 = a; b2 < D; ++b2, ++e) M(a, b2) = M(b2, a) = S[i * kSym + e];
-    const double lm = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>>(M, Eigen::EigenvaluesOnly)
-                          .eigenvalues()(D - 1);
-    bound = std::max(bound, 2 * lm * im[i] * (1 + 1e-5));
-  }
+      for (int b2 = a; b2 < D; ++b2, ++e) t.k[e] = static_cast<float>(K[a][b2]);
+  };
+  const std::size_t nc = (N + kChunkP - 1) / kChunkP;
+  auto chunk_end = [&](std::size_t c) { return std::min(N, (c + 1) * kChunkP); };
+  std::vector<std::vector<Term>> later(nc);  // terms of each chunk's pairs that reach later chunks
+  std::vector<std::size_t> pairs_in(nc, 0);
+  for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
+    const auto cu = static_cast<std::size_t>(c);
+    const std::size_t hi = chunk_end(cu);
+    for (std::size_t p = cu * kChunkP; p < hi; ++p)
+      stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
+        ++pairs_in[cu];
+        if (j < hi) return;
+        Term t{j, {}};
+        upper(pp, j, k, t);
+        later[cu].push_back(t);
+      });
+  });
+  std::vector<std::vector<Term>> incoming(nc);  // by receiving chunk, in owner order
+  for (const auto& terms : later)
+    for (const Term& t : terms) incoming[t.j / kChunkP].push_back(t);
+  std::vector<float> S(N * kSym, 0.0f);
+  std::vector<double> chunk_bound(nc, 0.0);
+  for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
+    const auto cu = static_cast<std::size_t>(c);
+    const std::size_t lo = cu * kChunkP, hi = chunk_end(cu);
+    for (const Term& t : incoming[cu])
+      for (int e = 0; e < kSym; ++e) S[std::size_t{t.j} * kSym + e] += t.k[e];
+    for (std::size_t p = lo; p < hi; ++p)
+      stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
+        Term t{j, {}};
+        upper(pp, j, k, t);
+        for (int e = 0; e < kSym; ++e) {
+          S[pp * kSym + e] += t.k[e];
+          if (j < hi) S[std::size_t{j} * kSym + e] += t.k[e];
+        }
+      });
+    for (std::size_t i = lo; i < hi; ++i) {
+      Eigen::Matrix<double, D, D> M;
+      int e = 0;
+      for (int a = 0; a < D; ++a)
+        for (int b2 = a; b2 < D; ++b2, ++e) M(a, b2) = M(b2, a) = S[i * kSym + e];
+      const double lm = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>>(M, Eigen::EigenvaluesOnly)
+                            .eigenvalues()(D - 1);
+      chunk_bound[cu] = std::max(chunk_bound[cu], 2 * lm * im[i] * (1 + 1e-5));
+    }
+  });
+  std::size_t npairs = 0;
+  for (std::size_t c = 0; c < nc; ++c) npairs += pairs_in[c];
+  const double bound = nc > 0 ? *std::max_element(chunk_bound.begin(), chunk_bound.end()) : 0.0;
+  later.clear();
+  incoming.clear();
   S.clear();
   S.shrink_to_fit();
   const double kmax = max_stiffness();
@@ -203,7 +245,6 @@ double Model<D>::lanczos_impl() const {
   // w = M^-½ K M^-½ q in parallel, the same for any thread count: each chunk of particles
   // sums its pairs into its own entries in pair order; the parts that land in later
   // chunks are kept per chunk and subtracted afterwards, in chunk order.
-  constexpr std::size_t kChunkP = 1024;
   struct Cross {
     std::uint32_t j;
     Real t[D];

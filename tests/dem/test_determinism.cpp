@@ -85,3 +85,29 @@ void check(int dim, bool ecc = false) {
 TEST(Determinism, SameHashFor1To3Threads2D) { check(2); }
 TEST(Determinism, SameHashFor1To3Threads3D) { check(3); }
 TEST(Determinism, SameHashFor1To3ThreadsEccentric2D) { check(2, true); }
+
+TEST(Determinism, TimeStepBoundAndEstimateSameFor1To3Threads) {
+  // The rigorous bound and the Lanczos estimate are formed in parallel over chunks of 1024
+  // particles, with the sums of a serial pass: the same bits for any thread count. An
+  // eccentric block of 5 chunks, bonds given as data (stiffness factors, rest lengths).
+  const auto lat = preprocess::hex2d_rows(80, 64, kC1d);
+  const auto e = preprocess::make_eccentric(
+      lat, {.type = preprocess::Eccentricity::Cube, .ra = 0.5, .rc = 0.6, .gamma = 0.3, .seed = 5});
+  std::vector<double> f(e.bonds.stiffness_factor.begin(), e.bonds.stiffness_factor.end());
+  std::vector<std::array<double, 2>> got;
+  for (int threads : {1, 2, 3}) {
+    par::set_threads(threads);
+    Simulation sim(2, Settings{.dt = 1e-12, .min_particles_per_thread = 1});
+    add_lattice(sim, e.lattice, sim.add_material(c1_material()));
+    sim.set_bonds(e.bonds.i, e.bonds.j, f);
+    sim.initialise();
+    got.push_back({sim.lambda_bound(), sim.lambda_estimate()});
+  }
+  par::set_threads(0);
+  ASSERT_GT(lat.size(), 4 * 1024u);
+  EXPECT_GT(got[0][0], got[0][1]);  // the bound lies above the estimate
+  for (std::size_t k = 1; k < got.size(); ++k) {
+    EXPECT_EQ(got[k][0], got[0][0]) << "bound, threads " << k + 1;
+    EXPECT_EQ(got[k][1], got[0][1]) << "estimate, threads " << k + 1;
+  }
+}
