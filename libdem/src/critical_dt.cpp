@@ -109,6 +109,7 @@ double Model<D>::max_stiffness() const {
 template <int D>
 void Model<D>::compute_critical_dt() {
   const std::size_t N = n();
+  log::Phases ph("critical time step");
   // rigorous bound: uᵀKu <= Σ_b 2(u_iᵀK_b u_i + u_jᵀK_b u_j) => λ <= max_i λmax(2ΣK_b)/m_i
   // (ΣK_b kept in float, upper triangle only, to keep the set-up's memory peak low; the
   // result is raised by 1e-5 to cover the float round-off). In parallel over chunks of
@@ -153,13 +154,19 @@ void Model<D>::compute_critical_dt() {
     const std::size_t lo = cu * kChunkP, hi = chunk_end(cu);
     for (const Term& t : incoming[cu])
       for (int e = 0; e < kSym; ++e) S[std::size_t{t.j} * kSym + e] += t.k[e];
+    std::size_t next_later = 0;  // the terms the first pass formed, in the same pair order
     for (std::size_t p = lo; p < hi; ++p)
       stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
+        if (j >= hi) {
+          const Term& t = later[cu][next_later++];
+          for (int e = 0; e < kSym; ++e) S[pp * kSym + e] += t.k[e];
+          return;
+        }
         Term t{j, {}};
         upper(pp, j, k, t);
         for (int e = 0; e < kSym; ++e) {
           S[pp * kSym + e] += t.k[e];
-          if (j < hi) S[std::size_t{j} * kSym + e] += t.k[e];
+          S[std::size_t{j} * kSym + e] += t.k[e];
         }
       });
     for (std::size_t i = lo; i < hi; ++i) {
@@ -190,7 +197,7 @@ void Model<D>::compute_critical_dt() {
   double wall_lambda = 0;
   for (const Wall& w : walls) wall_lambda += w.k * imax;
   lam_bound = bound;
-  log::Phases ph("critical time step");
+  ph.lap("rigorous bound");
   lam_est = npairs > 0 ? lanczos() : 0.0;
   ph.lap("Lanczos estimate");
   log::debug("critical time step: largest eigenvalue {:.17g} (Lanczos), {:.17g} (bound)", lam_est, lam_bound);
