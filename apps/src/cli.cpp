@@ -163,6 +163,9 @@ int main(int argc, char** argv) {
   render->add_option("--mesh", ropt.mesh, "FEM series (.pvd of .vtu frames) drawn under the particles")
       ->check(CLI::ExistingFile);
   render->add_flag("--contacts", ropt.contacts, "Also draw contacts (state 4 lines of bonds.pvd)");
+  render->add_flag(
+      "--no-cracks", ropt.no_cracks,
+      "Leave the broken bonds out (e.g. layers coloured by --field group, whose offsets show the faults)");
   // A list option checked by number_list_error: a bad one exits with status 2 and says why.
   auto numbers = [](std::size_t count, std::size_t nonzero_from, std::string what) {
     return CLI::Validator(

@@ -60,6 +60,7 @@ int render_series_cmd(const RenderOptions& opt) {
   style.width = opt.size.at(0);
   style.height = opt.size.at(1);
   style.show_contacts = opt.contacts;
+  style.show_broken_bonds = !opt.no_cracks;
   // The options were checked by number_list_error when parsed.
   auto vec3 = [](const std::string& text, std::array<double, 3>& out) {
     if (text.empty()) return;

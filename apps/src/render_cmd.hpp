@@ -16,6 +16,7 @@ struct RenderOptions {
   bool no_movie = false;
   std::filesystem::path mesh;  ///< FEM series drawn under the particles (coupled models)
   bool contacts = false;       ///< draw contacts (state 4 lines of bonds.pvd)
+  bool no_cracks = false;      ///< leave the broken bonds out
   std::string view, up, clip;  ///< "X,Y,Z" / "OX,OY,OZ,NX,NY,NZ" as given (checked by number_list_error)
 };
 

@@ -154,6 +154,22 @@ vtkSmartPointer<vtkLookupTable> make_lut(Colormap map, double lo, double hi) {
   return lut;
 }
 
+/// A table of one colour per category, value k in [k - 0.5, k + 0.5): Tableau's ten
+/// qualitative colours, repeated past ten, so neighbouring layers always differ.
+vtkSmartPointer<vtkLookupTable> make_categorical_lut(std::size_t n) {
+  static constexpr unsigned kPalette[] = {0x4E79A7, 0xF28E2B, 0xE15759, 0x76B7B2, 0x59A14F,
+                                          0xEDC948, 0xB07AA1, 0xFF9DA7, 0x9C755F, 0xBAB0AC};
+  auto lut = vtkSmartPointer<vtkLookupTable>::New();
+  const auto count = static_cast<vtkIdType>(std::max<std::size_t>(n, 1));
+  lut->SetNumberOfTableValues(count);
+  for (vtkIdType k = 0; k < count; ++k) {
+    const Rgb c = hex(kPalette[k % 10]);
+    lut->SetTableValue(k, c[0], c[1], c[2], 1.0);
+  }
+  lut->SetTableRange(-0.5, static_cast<double>(count) - 0.5);
+  return lut;
+}
+
 /// The displayed value of array `a` at each tuple (component or magnitude, times scale).
 std::vector<double> field_values(const Array* a, const RenderStyle& s) {
   if (!a) return {};
@@ -692,12 +708,14 @@ void render_frame(const RenderRequest& rq) {
   const bool coloured = !values.empty() || !mesh_values.values.empty();
   std::array<double, 2> range =
       s.range ? *s.range : merge(finite_range(values), finite_range(mesh_values.values));
-  if (!s.range && s.colormap == Colormap::CoolWarm && range[0] <= range[1]) {
+  const bool categorical = !s.categories.empty();
+  if (categorical) range = {-0.5, static_cast<double>(s.categories.size()) - 0.5};
+  if (!s.range && !categorical && s.colormap == Colormap::CoolWarm && range[0] <= range[1]) {
     // A diverging map is centred on zero: white means "no stress".
     const double m = std::max(std::abs(range[0]), std::abs(range[1]));
     range = {-m, m};
   }
-  range = widen(range);
+  if (!categorical) range = widen(range);
 
   vtkNew<vtkPoints> pts;
   pts->SetDataTypeToDouble();
@@ -721,7 +739,8 @@ void render_frame(const RenderRequest& rq) {
   }
   const auto shown = pts->GetNumberOfPoints();
   if (shown > 0) mean_r /= static_cast<double>(shown);
-  auto lut = make_lut(s.colormap, range[0], range[1]);
+  auto lut =
+      categorical ? make_categorical_lut(s.categories.size()) : make_lut(s.colormap, range[0], range[1]);
   MeshActor mesh;
   if (rq.mesh) {
     mesh = mesh_actor(*rq.mesh, mesh_values, s, dim, lut, range);
@@ -1048,7 +1067,27 @@ void render_frame(const RenderRequest& rq) {
   if (step) when += (when.empty() ? "" : ",   ") + ("step " + thousands(*step));
   if (!when.empty()) top->AddActor2D(text(when, 0.03, ytop, font, false, kText));
 
-  if (coloured) {
+  if (coloured && categorical) {
+    // Legend: a swatch and the name of each category present, top right.
+    std::vector<bool> present(s.categories.size(), false);
+    for (double v : values) {
+      const long k = std::lround(v);
+      if (k >= 0 && static_cast<std::size_t>(k) < present.size()) present[static_cast<std::size_t>(k)] = true;
+    }
+    double y = 0.88;
+    top->AddActor2D(text(s.field_label.empty() ? s.field : s.field_label, side, y, font, true, kText,
+                         VTK_TEXT_LEFT, VTK_TEXT_CENTERED));
+    // the upper category first, as layers stack
+    for (std::size_t k = present.size(); k-- > 0;) {
+      if (!present[k]) continue;
+      y -= 1.6 * font / H;
+      double rgba[4];
+      lut->GetTableValue(static_cast<vtkIdType>(k), rgba);
+      top->AddActor2D(legend_line(side, side + 0.035, y, Rgb{rgba[0], rgba[1], rgba[2]}, 0.9 * font));
+      top->AddActor2D(text(s.categories[k], side + 0.045, y, static_cast<int>(font * 0.8), false, kText,
+                           VTK_TEXT_LEFT, VTK_TEXT_CENTERED));
+    }
+  } else if (coloured) {
     vtkNew<vtkScalarBarActor> bar;
     bar->SetLookupTable(lut);
     std::string label = s.field_label.empty() ? s.field : s.field_label;

@@ -97,6 +97,8 @@ std::vector<std::int32_t> Simulation::last_group() const {
   return per_particle(*m_, of_set);
 }
 
+const std::vector<std::string>& Simulation::group_names() const { return m_->group_names; }
+
 void Simulation::fix(const std::string& group, unsigned axes) {
   m_->bc_specs.push_back({detail::BcSpec::Fix, group_of(*this, group), axes, {}, 0, -1});
   m_->bcs_changed();

@@ -322,7 +322,20 @@ class KeyChecks {
     if (probe.boolean("stress_strain")) {
       check_reference(probe, "top_group", group_what, groups, ", which stress_strain = true needs");
       check_reference(probe, "bottom_group", group_what, groups, ", which stress_strain = true needs");
-    } else if (probe.real("stop_after_peak") > 0) {
+    }
+    if (!probe.str("wedge_group").empty()) {
+      check_reference(probe, "wedge_group", group_what, groups);
+      if (dim != 2) report(probe.where("wedge_group"), "a thrust wedge is measured in 2D scenes only");
+    }
+    if (probe.has("wedge_friction")) {
+      const auto& mu = probe.reals("wedge_friction");
+      if (mu.size() == 2 && !(mu[1] < mu[0]))
+        report(probe.where("wedge_friction"),
+               fmt::format("the basal friction {} (second) must be below the internal friction {} (first): a "
+                           "base as strong as the cover makes no wedge",
+                           mu[1], mu[0]));
+    }
+    if (!probe.boolean("stress_strain") && probe.real("stop_after_peak") > 0) {
       report(probe.where("stop_after_peak"),
              "stop_after_peak needs the specimen's stress: set stress_strain = true (with top_group and "
              "bottom_group), or leave stop_after_peak at 0");

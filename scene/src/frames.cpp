@@ -290,9 +290,10 @@ io::MeshFrame wall_frame(const dem::Simulation& sim) {
   return f;
 }
 
-io::RenderStyle field_style(const std::string& field) {
+io::RenderStyle field_style(const std::string& field, const std::vector<std::string>& group_names) {
   io::RenderStyle style;
   style.field = field;
+  if (field == "group") style.categories = group_names;
   if (field == "displacement") style.field_scale = 1e3, style.unit = "mm";
   if (field == "velocity") style.unit = "m/s";
   if (field == "damage") style.range = std::array<double, 2>{0.0, 1.0};

@@ -15,6 +15,8 @@
 #include <strata/scene/model.hpp>
 #include <strata/scene/scene.hpp>
 
+#include "wedge_report.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -39,6 +41,7 @@ class RunOutput {
         title_(sc.scene.title),
         particles_on_(m.has_particles()),
         fem_on_(m.has_fem()) {
+    if (particles_on_) group_names_ = m.sim().group_names();
     const auto mode = resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh;
     if (particles_on_) {
       particles_.emplace(dir, "particles", mode);
@@ -53,6 +56,9 @@ class RunOutput {
       cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
                                "broken_tension", "broken_shear", "contacts"});
     if (fem_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
+    // [probe] wedge_group and wedge_friction: checked with the scene (a 2D group, basal < internal)
+    wedge_group_ = *sc.probe.wedge_group;
+    if (sc.probe.wedge_friction.given) wedge_friction_ = *sc.probe.wedge_friction;
     for (const auto& g : sc.probe.gauges.value) {
       if (!m.groups.count(g) && !m.fem_groups.count(g))
         sc.probe.gauges.fail(fmt::format("no [[group]] or [[region]] is called '{}'", g));
@@ -102,11 +108,15 @@ class RunOutput {
   }
 
   /// How pictures look: the scene's title and [output] render_field, render_contacts,
-  /// view_direction, view_up and clip_plane (checked by check_render_keys).
+  /// render_cracks, render_size, view_direction, view_up and clip_plane (checked by
+  /// check_render_keys). Groups are drawn as categories named after the groups.
   io::RenderStyle render_style() const {
-    io::RenderStyle style = field_style(out_.render_field);
+    io::RenderStyle style = field_style(out_.render_field, group_names_);
     style.title = title_;
     style.show_contacts = out_.render_contacts;
+    style.show_broken_bonds = out_.render_cracks;
+    style.width = static_cast<int>(out_.render_size.value[0]);
+    style.height = static_cast<int>(out_.render_size.value[1]);
     for (std::size_t a = 0; a < 3; ++a) {
       style.view_direction[a] = out_.view_direction.value[a];
       style.view_up[a] = out_.view_up.value[a];
@@ -331,6 +341,7 @@ class RunOutput {
       if (const auto e = measured_elastic(m)) summary["measured_elastic"] = *e;
       if (const auto b = shear_bands(m, probe_steps_[std::size_t(peak)])) summary["shear_bands"] = *b;
     }
+    if (!wedge_group_.empty()) summary["wedge"] = wedge_report(m.sim(), wedge_group_, wedge_friction_);
     write_file_atomic(dir_ / "summary.json", summary.dump(2) + "\n");
     summary_ = std::move(summary);
     written_.push_back(dir_ / "summary.json");
@@ -495,6 +506,10 @@ class RunOutput {
   std::vector<std::string> fields_;
   std::vector<std::string> gauges_;
   std::string title_;
+  std::vector<std::string> group_names_;
+  std::string wedge_group_;             ///< [probe] wedge_group; empty: no wedge report
+  std::vector<double> wedge_friction_;  ///< internal, basal; empty: no critical taper  ///< by group index:
+                                        ///< the categories of the group field
   FrameSelection selection_;
   bool rendered_while_running_ = false;
   bool particles_on_ = false, fem_on_ = false;

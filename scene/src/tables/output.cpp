@@ -67,6 +67,15 @@ TableSpec output_spec() {
               .def("false")
               .doc("Also draw the contacts of the bond frames (output.contacts) in the pictures, as thin "
                    "green lines."),
+          K("render_cracks", Bool)
+              .def("true")
+              .doc("Draw the broken bonds over the particles in the pictures; false leaves the particles "
+                   "alone (e.g. a sandbox's layers coloured by group, whose offsets show the faults)."),
+          K("render_size", IntegerList)
+              .ge(16)
+              .length(2, 2)
+              .def("[1600, 1200]")
+              .doc("Width and height of the pictures in pixels (a long, thin model reads better wide)."),
           K("view_direction", RealList)
               .length(3, 3)
               .def("[-1.0, -0.6, -0.45]")
@@ -139,6 +148,8 @@ OutputTable read_output(const Table& t) {
   read("movie", o.movie);
   read("render_while_running", o.render_while_running);
   read("render_contacts", o.render_contacts);
+  read("render_cracks", o.render_cracks);
+  read("render_size", o.render_size);
   read("view_direction", o.view_direction);
   read("view_up", o.view_up);
   read("clip_plane", o.clip_plane);

@@ -41,6 +41,19 @@ TableSpec probe_spec() {
               .doc("Groups whose mean displacement is recorded at every probe row (columns <group>_ux, "
                    "<group>_uy and, in 3D, <group>_uz): particles, FEM nodes or both. Gauges compare runs "
                    "of one geometry, e.g. a coupled model against an all-particle one."),
+          K("wedge_group", String)
+              .def(R"("")")
+              .doc("2D thrust wedge: the [[group]] (or [[region]]) of the cover that a [[wall]] moving "
+                   "along x shortens under gravity along -y; summary.json then reports its taper (the "
+                   "surface slope from the deformation front to the wall), its width and uplift, and the "
+                   "dips of its fore- and backthrusts (lines traced by the bonds broken in shear after "
+                   "settling). Empty: none."),
+          K("wedge_friction", RealList)
+              .gt(0)
+              .length(2, 2)
+              .doc("Internal and basal friction coefficients of the cover for the critical taper of a "
+                   "dry, non-cohesive Coulomb wedge (Dahlen 1984) and its fault dips, reported next to "
+                   "the measured ones (wedge_group); the basal one must be the smaller."),
       }};
 }
 
@@ -56,6 +69,8 @@ ProbeTable read_probe(const Table& t) {
   read("energy", p.energy);
   read("broken_bonds", p.broken_bonds);
   read("gauges", p.gauges);
+  read("wedge_group", p.wedge_group);
+  read("wedge_friction", p.wedge_friction);
   read.done();
   return p;
 }

@@ -51,10 +51,16 @@ struct RenderStyle {
   /// range over all frames, so colours mean the same in every frame).
   std::optional<std::array<double, 2>> range;
   Colormap colormap = Colormap::Viridis;
+  /// Names of the values of an integer field drawn as categories (value k is named
+  /// categories[k]; e.g. the layers of a sandbox): each value gets its own colour from a
+  /// qualitative palette, and a legend lists the names of the values present instead of a
+  /// colour bar. Empty: the field is drawn through `colormap`.
+  std::vector<std::string> categories;
   /// Disks/spheres drawn at this fraction of their radius (slightly below 1 shows grains).
   double radius_factor = 0.96;
 
-  /// Bonds: draw broken ones (state != Intact); intact ones only when asked.
+  /// Bonds: draw broken ones (state != Intact) unless switched off (pictures of the layers
+  /// alone); intact ones only when asked.
   bool show_broken_bonds = true;
   bool show_intact_bonds = false;
   /// Contacts (BondState::Contact lines of the bond set) as thin lines, with a legend count.

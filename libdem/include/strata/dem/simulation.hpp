@@ -138,6 +138,8 @@ class Simulation {
   /// Per particle (internal order): the group_index of the last-made group it belongs to
   /// (the most specific one where groups refine regions), -1 for none.
   std::vector<std::int32_t> last_group() const;
+  /// Names of the groups, by group_index (the values of last_group()).
+  const std::vector<std::string>& group_names() const;
 
   // ---- boundary conditions (later calls override earlier ones per axis) ---------------
   /// Fixes the given axes of the group's particles.

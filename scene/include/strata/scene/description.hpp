@@ -268,7 +268,8 @@ struct OutputTable {
   Located<bool> vtk, render;
   Located<std::string> render_field;         ///< "displacement", "velocity", "damage" or "group"
   Located<std::vector<std::string>> fields;  ///< per-particle fields of the VTK frames
-  Located<bool> movie, render_while_running, render_contacts;
+  Located<bool> movie, render_while_running, render_contacts, render_cracks;
+  Located<std::vector<std::int64_t>> render_size;        ///< pixels: width, height
   Located<std::vector<double>> view_direction, view_up;  ///< 3 components each
   Located<std::vector<double>> clip_plane;               ///< [ox, oy, oz, nx, ny, nz]; optional
   Located<std::string> particles;                        ///< "all", "surface" or "none"
@@ -288,6 +289,8 @@ struct ProbeTable {
   Located<double> stop_after_peak;  ///< fraction of the peak stress; 0: never
   Located<bool> energy, broken_bonds;
   Located<std::vector<std::string>> gauges;
+  Located<std::string> wedge_group;
+  Located<std::vector<double>> wedge_friction;  ///< internal, basal; optional
 };
 
 /// [coupled]: a coupled FEM–DEM model run as a sweep over η (chain6, metamaterial, wave).

@@ -69,7 +69,8 @@ io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const E
 io::MeshFrame wall_frame(const dem::Simulation& sim);
 
 /// How pictures show a particle field (render_field / --field): its scale, unit and, for
-/// damage, the fixed range [0, 1]. Shared by `strata run` and `strata render`.
-io::RenderStyle field_style(const std::string& field);
+/// damage, the fixed range [0, 1]; the group field as categories named `group_names` (by
+/// group index). Shared by `strata run` and `strata render`.
+io::RenderStyle field_style(const std::string& field, const std::vector<std::string>& group_names = {});
 
 }  // namespace strata::scene

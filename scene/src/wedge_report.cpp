@@ -1,0 +1,108 @@
+// The thrust-wedge section of summary.json: the cover's taper and faults measured by
+// dem::measure_wedge against Coulomb wedge theory.
+#include "wedge_report.hpp"
+
+#include <strata/core/error.hpp>
+#include <strata/dem/wedge.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+namespace strata::scene {
+
+using nlohmann::json;
+
+json wedge_report(const dem::Simulation& sim, const std::string& group, const std::vector<double>& friction) {
+  const auto in = sim.in_groups({group});
+  const auto pos = sim.positions();
+  const auto disp = sim.displacements();
+  const auto rad = sim.radii();
+  dem::WedgeInput w;
+  std::vector<double> radii;
+  double mean_x = 0;
+  std::map<long, double> start_top;  // highest start top per bin of 50 radii
+  w.base = INFINITY;
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    if (!in[i]) continue;
+    w.particles.push_back({pos[i][0], pos[i][1], rad[i]});
+    radii.push_back(rad[i]);
+    mean_x += pos[i][0];
+    const double y0 = pos[i][1] - disp[i][1];
+    w.base = std::min(w.base, y0 - rad[i]);
+  }
+  STRATA_CHECK(!radii.empty(), Input, "the wedge group '{}' has no particles", group);
+  mean_x /= double(radii.size());
+  std::nth_element(radii.begin(), radii.begin() + long(radii.size() / 2), radii.end());
+  w.spacing = 2 * radii[radii.size() / 2];
+  for (std::size_t i = 0; i < pos.size(); ++i) {
+    if (!in[i]) continue;
+    const double x0 = pos[i][0] - disp[i][0], y0 = pos[i][1] - disp[i][1];
+    const long k = long(std::floor(x0 / (5 * w.spacing)));
+    auto [it, fresh] = start_top.try_emplace(k, y0 + rad[i]);
+    if (!fresh) it->second = std::max(it->second, y0 + rad[i]);
+  }
+  // the start top: the median of the bins' highest tops (a grain standing proud does not count)
+  std::vector<double> tops;
+  for (const auto& [k, h] : start_top) tops.push_back(h);
+  std::nth_element(tops.begin(), tops.begin() + long(tops.size() / 2), tops.end());
+  w.initial_top = tops[tops.size() / 2];
+  // the backstop: the wall that moves along x
+  const auto walls = sim.walls();
+  const dem::WallView* backstop = nullptr;
+  for (const auto& wall : walls)
+    if (wall.velocity[0] != 0 && (!backstop || std::abs(wall.velocity[0]) > std::abs(backstop->velocity[0])))
+      backstop = &wall;
+  STRATA_CHECK(backstop, Input, "the wedge of '{}' needs a [[wall]] moving along x to shorten it", group);
+  w.backstop_x = backstop->point[0];
+  w.backstop_side = backstop->point[0] > mean_x ? 1 : -1;
+  for (const auto& b : sim.breaks())
+    if (b.step >= 0 && b.mode == dem::BreakMode::Shear)
+      w.shear_breaks.push_back({b.position[0], b.position[1]});
+  const dem::Wedge wedge = dem::measure_wedge(w);
+
+  json j;
+  j["group"] = group;
+  j["spacing_m"] = w.spacing;
+  j["initial_top_m"] = w.initial_top;
+  j["backstop_x_m"] = w.backstop_x;
+  j["toe_x_m"] = wedge.toe_x;
+  j["width_m"] = wedge.width;
+  j["max_uplift_m"] = wedge.max_uplift;
+  j["taper_deg"] = wedge.taper_deg;
+  j["profile_bins"] = wedge.profile_bins;
+  j["shear_breaks"] = w.shear_breaks.size();
+  j["faults"] = json::array();
+  const dem::Fault* fore = nullptr;
+  const dem::Fault* back = nullptr;
+  for (const auto& f : wedge.faults) {
+    j["faults"].push_back({{"kind", f.forethrust ? "forethrust" : "backthrust"},
+                           {"dip_deg", f.dip_deg},
+                           {"x_at_base_m", f.x_at_base},
+                           {"breaks", f.breaks}});
+    if (f.forethrust && !fore) fore = &f;
+    if (!f.forethrust && !back) back = &f;
+  }
+  auto theory = [](const dem::CriticalTaper& t, double mu, double mu_b) {
+    return json{{"internal_friction", mu},
+                {"basal_friction", mu_b},
+                {"taper_deg", t.taper_deg},
+                {"forethrust_dip_deg", t.forethrust_dip_deg},
+                {"backthrust_dip_deg", t.backthrust_dip_deg}};
+  };
+  if (friction.size() == 2)
+    j["critical_taper"] = theory(dem::critical_taper(friction[0], friction[1]), friction[0], friction[1]);
+  if (fore && back) {
+    // the frictions the strongest fore- and backthrust imply, and their critical taper
+    try {
+      const auto mu = dem::frictions_from_dips(fore->dip_deg, back->dip_deg);
+      if (mu[1] > 0 && mu[1] < mu[0])
+        j["implied_by_faults"] = theory(dem::critical_taper(mu[0], mu[1]), mu[0], mu[1]);
+    } catch (const Error&) {
+      // dips that no pair of frictions explains: nothing implied
+    }
+  }
+  return j;
+}
+
+}  // namespace strata::scene
