@@ -109,9 +109,9 @@ Wedge measure_wedge(const WedgeInput& in) {
     w.taper_deg = std::atan(-slope) * kDeg;
   }
 
-  // Faults: Hough lines through the shear breaks over the wedge, one at a time.
+  // Faults: Hough lines through the fault points over the wedge, one at a time.
   std::vector<std::array<double, 2>> left;
-  for (const auto& b : in.shear_breaks) {
+  for (const auto& b : in.fault_points) {
     const double d = s * (in.backstop_x - b[0]);
     if (d >= 0 && d <= w.width + 2 * in.spacing) left.push_back(b);
   }
@@ -128,7 +128,7 @@ Wedge measure_wedge(const WedgeInput& in) {
     std::vector<std::array<double, 2>> rest;
     std::size_t near = 0;
     for (const auto& p : left) {
-      if (std::abs(l.distance(p)) <= in.spacing)
+      if (std::abs(l.distance(p)) <= 2 * in.spacing)
         ++near;
       else
         rest.push_back(p);
@@ -140,7 +140,7 @@ Wedge measure_wedge(const WedgeInput& in) {
     if (dip < 10 || dip > 80) continue;
     Fault f;
     f.dip_deg = dip;
-    f.breaks = near;
+    f.points = near;
     // rising towards +x (a < 90) dips towards −x: a forethrust when the backstop is at −x
     f.forethrust = (a < 90) == (s < 0);
     // x where the line meets y = base: x·cos θ + base·sin θ = rho

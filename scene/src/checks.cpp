@@ -315,6 +315,17 @@ class KeyChecks {
     if (solver.integer("steps") == 0 && solver.real("duration") == 0.0)
       report(solver.where(), "the run has no length: set solver.steps or solver.duration (both are 0)");
 
+    const Table& output = scene.table("output");
+    if (dim != 2) {
+      if (output.str("render_field") == "shear_strain")
+        report(output.where("render_field"),
+               "shear_strain is measured in 2D scenes only (allowed in 3D: "
+               "displacement, velocity, damage, group)");
+      const auto& fields = output.strings("fields");
+      if (std::find(fields.begin(), fields.end(), "shear_strain") != fields.end())
+        report(output.where("fields"), "shear_strain is measured in 2D scenes only");
+    }
+
     const Table& probe = scene.table("probe");
     const std::string& axis = probe.str("axis");
     if (axis == "z" && dim == 2)
@@ -326,6 +337,7 @@ class KeyChecks {
     if (!probe.str("wedge_group").empty()) {
       check_reference(probe, "wedge_group", group_what, groups);
       if (dim != 2) report(probe.where("wedge_group"), "a thrust wedge is measured in 2D scenes only");
+      if (!probe.str("wedge_backstop").empty()) check_reference(probe, "wedge_backstop", group_what, groups);
     }
     if (probe.has("wedge_friction")) {
       const auto& mu = probe.reals("wedge_friction");

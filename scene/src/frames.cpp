@@ -1,6 +1,7 @@
 #include <strata/scene/frames.hpp>
 
 #include <strata/core/error.hpp>
+#include <strata/dem/strain.hpp>
 #include <strata/fem/stress.hpp>
 
 #include <algorithm>
@@ -58,6 +59,19 @@ io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std:
   if (wants(fields, "group")) {
     const auto g = sim.last_group();
     pc.point_data.push_back({"group", 1, {g.begin(), g.end()}, io::ArrayType::Int64});
+  }
+  if (wants(fields, "shear_strain") && sim.dim() == 2) {
+    // neighbourhoods of 1.5 median diameters at the start: the first ring of a lattice, even
+    // an eccentric one
+    std::vector<double> r2(r.begin(), r.end());
+    std::nth_element(r2.begin(), r2.begin() + long(r2.size() / 2), r2.end());
+    const double radius = r2.empty() ? 1.0 : 3.0 * r2[r2.size() / 2];
+    const auto u = sim.displacements();
+    std::vector<std::array<double, 3>> start(pos.size());
+    for (std::size_t i = 0; i < pos.size(); ++i)
+      for (int a = 0; a < 3; ++a) start[i][a] = pos[i][a] - u[i][a];
+    const auto g = dem::shear_strain_2d(start, pos, radius);
+    pc.point_data.push_back({"shear_strain", 1, {g.begin(), g.end()}, io::ArrayType::Float32});
   }
   if (wants(fields, "damage")) {
     const auto d = sim.damage();
@@ -297,6 +311,11 @@ io::RenderStyle field_style(const std::string& field, const std::vector<std::str
   if (field == "displacement") style.field_scale = 1e3, style.unit = "mm";
   if (field == "velocity") style.unit = "m/s";
   if (field == "damage") style.range = std::array<double, 2>{0.0, 1.0};
+  if (field == "shear_strain") {
+    // shear zones stand out from 0.25 on; a décollement or a piston's corner shears far more
+    style.range = std::array<double, 2>{0.0, 1.5};
+    style.field_label = "shear strain";
+  }
   return style;
 }
 

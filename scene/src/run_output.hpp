@@ -37,7 +37,7 @@ class RunOutput {
   RunOutput(const fs::path& dir, const Scene& sc, const BuiltModel& m, const StateReader* resume)
       : dir_(dir),
         out_(sc.output),
-        fields_(out_.fields),
+        fields_(with_render_field(out_.fields, out_.render_field)),
         title_(sc.scene.title),
         particles_on_(m.has_particles()),
         fem_on_(m.has_fem()) {
@@ -58,6 +58,7 @@ class RunOutput {
     if (fem_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
     // [probe] wedge_group and wedge_friction: checked with the scene (a 2D group, basal < internal)
     wedge_group_ = *sc.probe.wedge_group;
+    wedge_backstop_ = *sc.probe.wedge_backstop;
     if (sc.probe.wedge_friction.given) wedge_friction_ = *sc.probe.wedge_friction;
     for (const auto& g : sc.probe.gauges.value) {
       if (!m.groups.count(g) && !m.fem_groups.count(g))
@@ -105,6 +106,13 @@ class RunOutput {
     w.put("driver/probes/stress", stress_);
     w.put("driver/probes/lateral_strain", lateral_);
     w.put("driver/probes/step", probe_steps_);
+  }
+
+  /// The frame fields: those asked for and the one the pictures are coloured by.
+  static std::vector<std::string> with_render_field(std::vector<std::string> fields,
+                                                    const std::string& render) {
+    if (std::find(fields.begin(), fields.end(), render) == fields.end()) fields.push_back(render);
+    return fields;
   }
 
   /// How pictures look: the scene's title and [output] render_field, render_contacts,
@@ -341,7 +349,8 @@ class RunOutput {
       if (const auto e = measured_elastic(m)) summary["measured_elastic"] = *e;
       if (const auto b = shear_bands(m, probe_steps_[std::size_t(peak)])) summary["shear_bands"] = *b;
     }
-    if (!wedge_group_.empty()) summary["wedge"] = wedge_report(m.sim(), wedge_group_, wedge_friction_);
+    if (!wedge_group_.empty())
+      summary["wedge"] = wedge_report(m.sim(), wedge_group_, wedge_backstop_, wedge_friction_);
     write_file_atomic(dir_ / "summary.json", summary.dump(2) + "\n");
     summary_ = std::move(summary);
     written_.push_back(dir_ / "summary.json");
@@ -508,6 +517,7 @@ class RunOutput {
   std::string title_;
   std::vector<std::string> group_names_;
   std::string wedge_group_;             ///< [probe] wedge_group; empty: no wedge report
+  std::string wedge_backstop_;          ///< [probe] wedge_backstop; empty: the moving wall
   std::vector<double> wedge_friction_;  ///< internal, basal; empty: no critical taper  ///< by group index:
                                         ///< the categories of the group field
   FrameSelection selection_;

@@ -3,6 +3,7 @@
 #include "wedge_report.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/dem/strain.hpp>
 #include <strata/dem/wedge.hpp>
 
 #include <algorithm>
@@ -13,7 +14,8 @@ namespace strata::scene {
 
 using nlohmann::json;
 
-json wedge_report(const dem::Simulation& sim, const std::string& group, const std::vector<double>& friction) {
+json wedge_report(const dem::Simulation& sim, const std::string& group, const std::string& backstop,
+                  const std::vector<double>& friction) {
   const auto in = sim.in_groups({group});
   const auto pos = sim.positions();
   const auto disp = sim.displacements();
@@ -47,18 +49,54 @@ json wedge_report(const dem::Simulation& sim, const std::string& group, const st
   for (const auto& [k, h] : start_top) tops.push_back(h);
   std::nth_element(tops.begin(), tops.begin() + long(tops.size() / 2), tops.end());
   w.initial_top = tops[tops.size() / 2];
-  // the backstop: the wall that moves along x
-  const auto walls = sim.walls();
-  const dem::WallView* backstop = nullptr;
-  for (const auto& wall : walls)
-    if (wall.velocity[0] != 0 && (!backstop || std::abs(wall.velocity[0]) > std::abs(backstop->velocity[0])))
-      backstop = &wall;
-  STRATA_CHECK(backstop, Input, "the wedge of '{}' needs a [[wall]] moving along x to shorten it", group);
-  w.backstop_x = backstop->point[0];
-  w.backstop_side = backstop->point[0] > mean_x ? 1 : -1;
-  for (const auto& b : sim.breaks())
-    if (b.step >= 0 && b.mode == dem::BreakMode::Shear)
-      w.shear_breaks.push_back({b.position[0], b.position[1]});
+  if (!backstop.empty()) {
+    // the backstop: the face of a group of particles (a piston driven along x) towards the cover
+    const auto on = sim.in_groups({backstop});
+    double lo = INFINITY, hi = -INFINITY, mean_b = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+      if (!on[i]) continue;
+      lo = std::min(lo, pos[i][0] - rad[i]);
+      hi = std::max(hi, pos[i][0] + rad[i]);
+      mean_b += pos[i][0];
+      ++n;
+    }
+    STRATA_CHECK(n > 0, Input, "the wedge backstop '{}' has no particles", backstop);
+    w.backstop_side = mean_b / double(n) > mean_x ? 1 : -1;
+    w.backstop_x = w.backstop_side > 0 ? lo : hi;
+  } else {
+    // the backstop: the wall that moves along x
+    const auto walls = sim.walls();
+    const dem::WallView* wall = nullptr;
+    for (const auto& v : walls)
+      if (v.velocity[0] != 0 && (!wall || std::abs(v.velocity[0]) > std::abs(wall->velocity[0]))) wall = &v;
+    STRATA_CHECK(wall, Input,
+                 "the wedge of '{}' needs a [[wall]] moving along x to shorten it, or a wedge_backstop group",
+                 group);
+    w.backstop_x = wall->point[0];
+    w.backstop_side = wall->point[0] > mean_x ? 1 : -1;
+  }
+  // The faults are the cover's shear zones: its particles strained most since the start (the
+  // top fifth, and at least gamma = 0.2, of those between the backstop and five thicknesses
+  // out): in a granular cover bonds, if any are left, no longer trace them.
+  std::vector<std::array<double, 3>> start, now;
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    if (in[i]) {
+      now.push_back(pos[i]);
+      start.push_back({pos[i][0] - disp[i][0], pos[i][1] - disp[i][1], 0.0});
+    }
+  const auto gamma = dem::shear_strain_2d(start, now, 1.5 * w.spacing);
+  const double reach = 5 * (w.initial_top - w.base);
+  std::vector<double> near;
+  for (std::size_t k = 0; k < now.size(); ++k)
+    if (w.backstop_side * (w.backstop_x - now[k][0]) <= reach) near.push_back(gamma[k]);
+  double threshold = 0.2;
+  if (!near.empty()) {
+    std::nth_element(near.begin(), near.begin() + long(near.size() * 4 / 5), near.end());
+    threshold = std::max(threshold, near[near.size() * 4 / 5]);
+  }
+  for (std::size_t k = 0; k < now.size(); ++k)
+    if (gamma[k] >= threshold) w.fault_points.push_back({now[k][0], now[k][1]});
   const dem::Wedge wedge = dem::measure_wedge(w);
 
   json j;
@@ -71,7 +109,8 @@ json wedge_report(const dem::Simulation& sim, const std::string& group, const st
   j["max_uplift_m"] = wedge.max_uplift;
   j["taper_deg"] = wedge.taper_deg;
   j["profile_bins"] = wedge.profile_bins;
-  j["shear_breaks"] = w.shear_breaks.size();
+  j["fault_strain_threshold"] = threshold;
+  j["fault_points"] = w.fault_points.size();
   j["faults"] = json::array();
   const dem::Fault* fore = nullptr;
   const dem::Fault* back = nullptr;
@@ -79,7 +118,7 @@ json wedge_report(const dem::Simulation& sim, const std::string& group, const st
     j["faults"].push_back({{"kind", f.forethrust ? "forethrust" : "backthrust"},
                            {"dip_deg", f.dip_deg},
                            {"x_at_base_m", f.x_at_base},
-                           {"breaks", f.breaks}});
+                           {"points", f.points}});
     if (f.forethrust && !fore) fore = &f;
     if (!f.forethrust && !back) back = &f;
   }

@@ -1,7 +1,9 @@
-// Thrust wedges: Dahlen's critical taper against its small-angle form and its limits, and the
-// taper and faults measured from synthetic wedges of known shape.
+// Thrust wedges and shear strain: Dahlen's critical taper against its small-angle form and its
+// limits, the taper and faults measured from synthetic wedges of known shape, and the shear
+// strain of homogeneous and banded deformations of a lattice.
 #include <gtest/gtest.h>
 #include <strata/core/error.hpp>
+#include <strata/dem/strain.hpp>
 #include <strata/dem/wedge.hpp>
 
 #include <cmath>
@@ -77,13 +79,13 @@ TEST(Wedge, MeasuresTaperToeAndFaultsOfASyntheticWedge) {
     const double c = std::cos(dip_deg / kDeg), s = std::sin(dip_deg / kDeg);
     for (int k = 0; k < n; ++k) {
       const double t = along(rng) * length;
-      in.shear_breaks.push_back({x0 + t * c - s * across(rng), t * s + c * across(rng)});
+      in.fault_points.push_back({x0 + t * c - s * across(rng), t * s + c * across(rng)});
     }
   };
   fault(2000, 180 - 25, 400, 300);  // up to the left from x = 2000: dips towards the backstop
   fault(2200, 45, 300, 200);        // up to the right from x = 2200: dips away from it
   for (int k = 0; k < 100; ++k)     // diffuse damage
-    in.shear_breaks.push_back({1500 + 1500 * along(rng), 300 * along(rng)});
+    in.fault_points.push_back({1500 + 1500 * along(rng), 300 * along(rng)});
 
   const Wedge w = measure_wedge(in);
   EXPECT_NEAR(w.taper_deg, 8.0, 0.3);
@@ -120,4 +122,42 @@ TEST(Wedge, BackstopOnEitherSide) {
   EXPECT_NEAR(w.taper_deg, 6.0, 0.3);
   EXPECT_NEAR(w.toe_x, 1000 - 10 / std::tan(6 / kDeg), 40);
   EXPECT_TRUE(w.faults.empty());
+}
+
+// Shear strain of a lattice deformed homogeneously: simple shear by k gives
+// ln(λ1/λ2) = asinh(k/2)·2 (the principal stretches of F = [[1, k], [0, 1]] are
+// √(1 + k²/4) ± k/2), a rotation gives 0, and a pure shear by stretches a, 1/a gives 2·ln a.
+TEST(ShearStrain, HomogeneousDeformationsOfALattice) {
+  std::vector<std::array<double, 3>> start;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) start.push_back({i + 0.5 * (j % 2), j * std::sqrt(3.0) / 2, 0});
+  auto map = [&](double f00, double f01, double f10, double f11) {
+    std::vector<std::array<double, 3>> now;
+    for (const auto& p : start) now.push_back({f00 * p[0] + f01 * p[1] + 3, f10 * p[0] + f11 * p[1] - 2, 0});
+    return shear_strain_2d(start, now, 1.5);
+  };
+  const double k = 0.4;
+  for (double g : map(1, k, 0, 1)) EXPECT_NEAR(g, 2 * std::asinh(k / 2), 1e-12);
+  const double c = std::cos(0.7), s = std::sin(0.7);
+  for (double g : map(c, -s, s, c)) EXPECT_NEAR(g, 0.0, 1e-12);
+  for (double g : map(1.3, 0, 0, 1 / 1.3)) EXPECT_NEAR(g, 2 * std::log(1.3), 1e-12);
+}
+
+// A band of simple shear between rigid blocks: the strain is found in the band and not outside.
+TEST(ShearStrain, LocalisesInAShearBand) {
+  std::vector<std::array<double, 3>> start, now;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 30; ++j) {
+      const double x = i + 0.5 * (j % 2), y = j * std::sqrt(3.0) / 2;
+      start.push_back({x, y, 0});
+      // y < 10: still; 10 <= y < 15: sheared by 0.5; above: moved rigidly by 2.5
+      const double u = y < 10 ? 0.0 : y < 15 ? 0.5 * (y - 10) : 2.5;
+      now.push_back({x + u, y, 0});
+    }
+  const auto g = shear_strain_2d(start, now, 1.5);
+  for (std::size_t i = 0; i < start.size(); ++i) {
+    const double y = start[i][1];
+    if (y > 11.5 && y < 13.5) EXPECT_NEAR(g[i], 2 * std::asinh(0.25), 1e-12) << y;
+    if (y < 8.5 || y > 16.5) EXPECT_NEAR(g[i], 0.0, 1e-12) << y;
+  }
 }

@@ -553,7 +553,7 @@ TEST(SceneOverrides, ErrorsPointAtTheOverride) {
   EXPECT_EQ(
       error_of(kBase, {"output.render_field=dmage"}),
       "--set output.render_field=dmage: render_field = \"dmage\" must be one of displacement, velocity, "
-      "damage, group; did you mean 'damage'?");
+      "damage, group, shear_strain; did you mean 'damage'?");
   EXPECT_EQ(error_of(kBase, {"solver.dt"}),
             "--set solver.dt: expected key=value, e.g. solver.dt=1e-8 or "
             "material.rock.kn=1e9");

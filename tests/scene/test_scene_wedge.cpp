@@ -112,4 +112,6 @@ TEST(SceneWedge, BadKeysAreRefusedAtTheirLine) {
           "bad.toml:36:", "must be below the internal friction");
   refused(with(kCover, "wedge_group = \"cover\"", "wedge_group = \"layers\""),
           "bad.toml:35:", "wedge_group = \"layers\" names no [[group]] or [[region]]");
+  refused(with(kCover, "wedge_group = \"cover\"", "wedge_group = \"cover\"\nwedge_backstop = \"ram\""),
+          "bad.toml:36:", "wedge_backstop = \"ram\" names no [[group]] or [[region]]");
 }

@@ -46,14 +46,20 @@ TableSpec output_spec() {
               .doc("Write VTK frames (.vtp/.vtu files and a .pvd collection) for ParaView."),
           K("render", Bool).def("true").doc("Render the frames to PNG pictures."),
           K("render_field", Choice)
-              .choices({"displacement", "velocity", "damage", "group"})
+              .choices({"displacement", "velocity", "damage", "group", "shear_strain"})
               .def(R"("damage")")
               .doc("What colours the particles in the pictures; damage also colours broken bonds "
-                   "by how they broke (tension or shear)."),
+                   "by how they broke (tension or shear); group colours each particle by its last "
+                   "group (e.g. its layer); shear_strain (2D) shows shear zones such as faults."),
           K("fields", StringList)
-              .choices({"id", "radius", "displacement", "velocity", "force", "group", "damage"})
+              .choices(
+                  {"id", "radius", "displacement", "velocity", "force", "group", "damage", "shear_strain"})
               .def(R"(["id", "radius", "displacement", "velocity", "force", "group", "damage"])")
-              .doc("Per-particle fields written to the VTK frames."),
+              .doc("Per-particle fields written to the VTK frames (the render field is always written). "
+                   "shear_strain (2D): the maximum shear strain ln(λ1/λ2) of the deformation since the "
+                   "start (after settling) of each particle's neighbourhood (the particles within 1.5 "
+                   "diameters of it at the start), which traces faults and shear bands where bonds have "
+                   "broken or never were."),
           K("movie", Bool)
               .def("true")
               .doc("Join the pictures into a movie: movie.mp4 (H.264) when ffmpeg is installed, otherwise "

@@ -43,11 +43,17 @@ TableSpec probe_spec() {
                    "of one geometry, e.g. a coupled model against an all-particle one."),
           K("wedge_group", String)
               .def(R"("")")
-              .doc("2D thrust wedge: the [[group]] (or [[region]]) of the cover that a [[wall]] moving "
-                   "along x shortens under gravity along -y; summary.json then reports its taper (the "
-                   "surface slope from the deformation front to the wall), its width and uplift, and the "
-                   "dips of its fore- and backthrusts (lines traced by the bonds broken in shear after "
-                   "settling). Empty: none."),
+              .doc("2D thrust wedge: the [[group]] (or [[region]]) of the cover that a piston or a [[wall]] "
+                   "moving along x shortens under gravity along -y (wedge_backstop); summary.json then "
+                   "reports its taper (the "
+                   "surface slope from the deformation front to the backstop), its width and uplift, and the "
+                   "dips of its fore- and backthrusts (lines through its most strained particles, the "
+                   "shear zones since settling). Empty: none."),
+          K("wedge_backstop", String)
+              .def(R"("")")
+              .doc("The [[group]] (or [[region]]) of particles driven along x that shortens the wedge's "
+                   "cover (a piston); its face towards the cover is the backstop of the wedge. Empty: the "
+                   "[[wall]] that moves along x."),
           K("wedge_friction", RealList)
               .gt(0)
               .length(2, 2)
@@ -70,6 +76,7 @@ ProbeTable read_probe(const Table& t) {
   read("broken_bonds", p.broken_bonds);
   read("gauges", p.gauges);
   read("wedge_group", p.wedge_group);
+  read("wedge_backstop", p.wedge_backstop);
   read("wedge_friction", p.wedge_friction);
   read.done();
   return p;

@@ -33,12 +33,12 @@ CriticalTaper critical_taper(double internal_friction, double basal_friction);
 /// Zero basal friction when the dips are equal; throws Input when they imply no friction.
 std::array<double, 2> frictions_from_dips(double forethrust_dip_deg, double backthrust_dip_deg);
 
-/// A fault: a straight line traced by the bonds that broke in shear.
+/// A fault: a straight line traced by the fault points.
 struct Fault {
   bool forethrust = true;  ///< dips towards the backstop (verges towards the toe)
   double dip_deg = 0;      ///< from the horizontal, 0-90
   double x_at_base = 0;    ///< where the line meets the base (m)
-  std::size_t breaks = 0;  ///< shear breaks within one spacing of it
+  std::size_t points = 0;  ///< fault points within two spacings of it
 };
 
 /// What measure_wedge needs. Shortening acts along x, gravity along −y.
@@ -52,8 +52,9 @@ struct WedgeInput {
   /// stands at larger x than the cover (pushes towards −x), −1 otherwise.
   double backstop_x = 0;
   int backstop_side = 1;
-  /// Midpoints of the bonds that broke in shear during shortening.
-  std::vector<std::array<double, 2>> shear_breaks;
+  /// Points that trace the faults: e.g. the particles of the cover's shear zones (high shear
+  /// strain), or the midpoints of bonds that broke in shear during shortening.
+  std::vector<std::array<double, 2>> fault_points;
   /// Particle diameter (m): bins of the surface profile, Hough bins, the uplift that marks
   /// the deformed wedge.
   double spacing = 1;

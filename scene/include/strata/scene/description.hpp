@@ -289,7 +289,7 @@ struct ProbeTable {
   Located<double> stop_after_peak;  ///< fraction of the peak stress; 0: never
   Located<bool> energy, broken_bonds;
   Located<std::vector<std::string>> gauges;
-  Located<std::string> wedge_group;
+  Located<std::string> wedge_group, wedge_backstop;
   Located<std::vector<double>> wedge_friction;  ///< internal, basal; optional
 };
 
