@@ -110,27 +110,39 @@ double fwhm(const std::vector<double>& s, double h, double half_range, double sp
 
 }  // namespace
 
+void take_lines(std::vector<std::array<double, 2>> points, HoughOptions options, int rounds,
+                std::size_t min_points, double min_fraction,
+                const std::function<double(const HoughLine&, const std::vector<double>&)>& take) {
+  options.lines = 1;
+  double strongest = 0;
+  std::vector<double> dist;
+  for (int round = 0; round < rounds && points.size() >= min_points; ++round) {
+    const auto lines = hough_lines(points, options);
+    if (lines.empty()) break;
+    const HoughLine& l = lines.front();
+    if (round == 0) strongest = l.votes;
+    if (l.votes < min_fraction * strongest) break;
+    dist.clear();
+    for (const auto& p : points) dist.push_back(l.distance(p));
+    const double reach = take(l, dist);
+    if (reach < 0) break;
+    std::vector<std::array<double, 2>> rest;
+    for (std::size_t k = 0; k < points.size(); ++k)
+      if (std::abs(dist[k]) > reach) rest.push_back(points[k]);
+    points.swap(rest);
+  }
+}
+
 std::vector<ShearBand> conjugate_bands(const std::vector<std::array<double, 2>>& points, int axis,
                                        double spacing) {
   std::vector<ShearBand> out;
   if (points.size() < 2 || !(spacing > 0)) return out;
   HoughOptions o;
-  o.lines = 1;
   o.rho_bin = spacing;
-  // One line at a time: the strongest line of the points left, whose points are then taken
-  // away, so that lines through the same band at nearby angles are not counted again.
-  std::vector<std::array<double, 2>> left = points;
+  // Each line's points (within one band width of it) are set aside before the next is sought,
+  // so that lines through the same band at nearby angles are not counted again.
   bool found[2] = {false, false};  // leaning clockwise, counter-clockwise
-  double strongest = 0;
-  for (int round = 0; round < 8 && !(found[0] && found[1]) && left.size() >= 2; ++round) {
-    const auto lines = hough_lines(left, o);
-    if (lines.empty()) break;
-    const HoughLine& l = lines.front();
-    if (round == 0) strongest = l.votes;
-    if (l.votes < 0.4 * strongest) break;  // a stray alignment of scattered breaks, not a band
-    std::vector<double> dist;
-    dist.reserve(left.size());
-    for (const auto& p : left) dist.push_back(l.distance(p));
+  take_lines(points, o, 8, 2, 0.4, [&](const HoughLine& l, const std::vector<double>& dist) {
     const double width = fwhm(dist, 0.5 * spacing, 8 * spacing, spacing);
     // the line's direction against the loading axis's (90 degrees for y, 0 for x)
     double a = l.direction_deg() - (axis == 1 ? 90.0 : 0.0);
@@ -147,12 +159,9 @@ std::vector<ShearBand> conjugate_bands(const std::vector<std::array<double, 2>>&
       for (double d : dist) band.breaks += std::abs(d) <= band.reach;
       out.push_back(band);
     }
-    std::vector<std::array<double, 2>> rest;
-    const double body = std::max(width, spacing);
-    for (std::size_t k = 0; k < left.size(); ++k)
-      if (std::abs(dist[k]) > body) rest.push_back(left[k]);
-    left.swap(rest);
-  }
+    if (found[0] && found[1]) return -1.0;  // both bands: done
+    return std::max(width, spacing);
+  });
   return out;
 }
 

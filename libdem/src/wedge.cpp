@@ -9,6 +9,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <utility>
 
 namespace strata::dem {
 namespace {
@@ -116,38 +117,24 @@ Wedge measure_wedge(const WedgeInput& in) {
     if (d >= 0 && d <= w.width + 2 * in.spacing) left.push_back(b);
   }
   HoughOptions o;
-  o.lines = 1;
   o.rho_bin = in.spacing;
-  double strongest = 0;
-  for (int round = 0; round < 12 && left.size() >= 10; ++round) {
-    const auto lines = hough_lines(left, o);
-    if (lines.empty()) break;
-    const HoughLine& l = lines.front();
-    if (round == 0) strongest = l.votes;
-    if (l.votes < 0.3 * strongest) break;
-    std::vector<std::array<double, 2>> rest;
-    std::size_t near = 0;
-    for (const auto& p : left) {
-      if (std::abs(l.distance(p)) <= 2 * in.spacing)
-        ++near;
-      else
-        rest.push_back(p);
-    }
-    left.swap(rest);
+  take_lines(std::move(left), o, 12, 10, 0.3, [&](const HoughLine& l, const std::vector<double>& dist) {
+    const double reach = 2 * in.spacing;  // a fault zone's points are set aside
     // direction in [0, 180) from +x; dip from the horizontal
     const double a = l.direction_deg();
     const double dip = a <= 90 ? a : 180 - a;
-    if (dip < 10 || dip > 80) continue;
+    if (dip < 10 || dip > 80) return reach;
     Fault f;
     f.dip_deg = dip;
-    f.points = near;
+    for (double d : dist) f.points += std::abs(d) <= reach;
     // rising towards +x (a < 90) dips towards −x: a forethrust when the backstop is at −x
     f.forethrust = (a < 90) == (s < 0);
     // x where the line meets y = base: x·cos θ + base·sin θ = rho
     const double c = std::cos(l.theta);
     f.x_at_base = std::abs(c) > 1e-12 ? (l.rho - in.base * std::sin(l.theta)) / c : 0.0;
     w.faults.push_back(f);
-  }
+    return reach;
+  });
   return w;
 }
 

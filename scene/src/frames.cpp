@@ -61,16 +61,11 @@ io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std:
     pc.point_data.push_back({"group", 1, {g.begin(), g.end()}, io::ArrayType::Int64});
   }
   if (wants(fields, "shear_strain") && sim.dim() == 2) {
-    // neighbourhoods of 1.5 median diameters at the start: the first ring of a lattice, even
-    // an eccentric one
-    std::vector<double> r2(r.begin(), r.end());
-    std::nth_element(r2.begin(), r2.begin() + long(r2.size() / 2), r2.end());
-    const double radius = r2.empty() ? 1.0 : 3.0 * r2[r2.size() / 2];
     const auto u = sim.displacements();
     std::vector<std::array<double, 3>> start(pos.size());
     for (std::size_t i = 0; i < pos.size(); ++i)
       for (int a = 0; a < 3; ++a) start[i][a] = pos[i][a] - u[i][a];
-    const auto g = dem::shear_strain_2d(start, pos, radius);
+    const auto g = shear_strain_since_start(start, pos, r);
     pc.point_data.push_back({"shear_strain", 1, {g.begin(), g.end()}, io::ArrayType::Float32});
   }
   if (wants(fields, "damage")) {
@@ -302,6 +297,24 @@ io::MeshFrame wall_frame(const dem::Simulation& sim) {
   }
   f.cell_data = {std::move(index), std::move(normal), std::move(velocity)};
   return f;
+}
+
+std::vector<double> shear_strain_since_start(const std::vector<std::array<double, 3>>& start,
+                                             const std::vector<std::array<double, 3>>& now,
+                                             const std::vector<double>& radii,
+                                             const std::vector<std::uint8_t>& only) {
+  std::vector<std::size_t> picked;
+  for (std::size_t i = 0; i < start.size(); ++i)
+    if (only.empty() || only[i]) picked.push_back(i);
+  std::vector<double> gamma(start.size(), 0.0);
+  if (picked.empty()) return gamma;
+  std::vector<std::array<double, 3>> s0, s1;
+  std::vector<double> r;
+  for (const std::size_t i : picked) s0.push_back(start[i]), s1.push_back(now[i]), r.push_back(radii[i]);
+  std::nth_element(r.begin(), r.begin() + long(r.size() / 2), r.end());
+  const auto g = dem::shear_strain_2d(s0, s1, 3.0 * r[r.size() / 2]);
+  for (std::size_t k = 0; k < picked.size(); ++k) gamma[picked[k]] = g[k];
+  return gamma;
 }
 
 io::RenderStyle field_style(const std::string& field, const std::vector<std::string>& group_names) {

@@ -515,11 +515,10 @@ class RunOutput {
   std::vector<std::string> fields_;
   std::vector<std::string> gauges_;
   std::string title_;
-  std::vector<std::string> group_names_;
-  std::string wedge_group_;             ///< [probe] wedge_group; empty: no wedge report
-  std::string wedge_backstop_;          ///< [probe] wedge_backstop; empty: the moving wall
-  std::vector<double> wedge_friction_;  ///< internal, basal; empty: no critical taper  ///< by group index:
-                                        ///< the categories of the group field
+  std::vector<std::string> group_names_;  ///< by group index: the categories of the group field
+  std::string wedge_group_;               ///< [probe] wedge_group; empty: no wedge report
+  std::string wedge_backstop_;            ///< [probe] wedge_backstop; empty: the moving wall
+  std::vector<double> wedge_friction_;    ///< internal, basal; empty: no critical taper
   FrameSelection selection_;
   bool rendered_while_running_ = false;
   bool particles_on_ = false, fem_on_ = false;

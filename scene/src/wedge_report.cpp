@@ -3,8 +3,8 @@
 #include "wedge_report.hpp"
 
 #include <strata/core/error.hpp>
-#include <strata/dem/strain.hpp>
 #include <strata/dem/wedge.hpp>
+#include <strata/scene/frames.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -20,18 +20,21 @@ json wedge_report(const dem::Simulation& sim, const std::string& group, const st
   const auto pos = sim.positions();
   const auto disp = sim.displacements();
   const auto rad = sim.radii();
+  // where the particles started: after settling
+  std::vector<std::array<double, 3>> start(pos.size());
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    for (int a = 0; a < 3; ++a) start[i][a] = pos[i][a] - disp[i][a];
   dem::WedgeInput w;
   std::vector<double> radii;
   double mean_x = 0;
-  std::map<long, double> start_top;  // highest start top per bin of 50 radii
+  std::map<long, double> start_top;  // highest start top per bin of five diameters
   w.base = INFINITY;
   for (std::size_t i = 0; i < pos.size(); ++i) {
     if (!in[i]) continue;
     w.particles.push_back({pos[i][0], pos[i][1], rad[i]});
     radii.push_back(rad[i]);
     mean_x += pos[i][0];
-    const double y0 = pos[i][1] - disp[i][1];
-    w.base = std::min(w.base, y0 - rad[i]);
+    w.base = std::min(w.base, start[i][1] - rad[i]);
   }
   STRATA_CHECK(!radii.empty(), Input, "the wedge group '{}' has no particles", group);
   mean_x /= double(radii.size());
@@ -39,10 +42,9 @@ json wedge_report(const dem::Simulation& sim, const std::string& group, const st
   w.spacing = 2 * radii[radii.size() / 2];
   for (std::size_t i = 0; i < pos.size(); ++i) {
     if (!in[i]) continue;
-    const double x0 = pos[i][0] - disp[i][0], y0 = pos[i][1] - disp[i][1];
-    const long k = long(std::floor(x0 / (5 * w.spacing)));
-    auto [it, fresh] = start_top.try_emplace(k, y0 + rad[i]);
-    if (!fresh) it->second = std::max(it->second, y0 + rad[i]);
+    const long k = long(std::floor(start[i][0] / (5 * w.spacing)));
+    auto [it, fresh] = start_top.try_emplace(k, start[i][1] + rad[i]);
+    if (!fresh) it->second = std::max(it->second, start[i][1] + rad[i]);
   }
   // the start top: the median of the bins' highest tops (a grain standing proud does not count)
   std::vector<double> tops;
@@ -79,24 +81,18 @@ json wedge_report(const dem::Simulation& sim, const std::string& group, const st
   // The faults are the cover's shear zones: its particles strained most since the start (the
   // top fifth, and at least gamma = 0.2, of those between the backstop and five thicknesses
   // out): in a granular cover bonds, if any are left, no longer trace them.
-  std::vector<std::array<double, 3>> start, now;
-  for (std::size_t i = 0; i < pos.size(); ++i)
-    if (in[i]) {
-      now.push_back(pos[i]);
-      start.push_back({pos[i][0] - disp[i][0], pos[i][1] - disp[i][1], 0.0});
-    }
-  const auto gamma = dem::shear_strain_2d(start, now, 1.5 * w.spacing);
+  const auto gamma = shear_strain_since_start(start, pos, rad, in);
   const double reach = 5 * (w.initial_top - w.base);
   std::vector<double> near;
-  for (std::size_t k = 0; k < now.size(); ++k)
-    if (w.backstop_side * (w.backstop_x - now[k][0]) <= reach) near.push_back(gamma[k]);
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    if (in[i] && w.backstop_side * (w.backstop_x - pos[i][0]) <= reach) near.push_back(gamma[i]);
   double threshold = 0.2;
   if (!near.empty()) {
     std::nth_element(near.begin(), near.begin() + long(near.size() * 4 / 5), near.end());
     threshold = std::max(threshold, near[near.size() * 4 / 5]);
   }
-  for (std::size_t k = 0; k < now.size(); ++k)
-    if (gamma[k] >= threshold) w.fault_points.push_back({now[k][0], now[k][1]});
+  for (std::size_t i = 0; i < pos.size(); ++i)
+    if (in[i] && gamma[i] >= threshold) w.fault_points.push_back({pos[i][0], pos[i][1]});
   const dem::Wedge wedge = dem::measure_wedge(w);
 
   json j;

@@ -3,6 +3,7 @@
 /// broken-bond midpoints (in uniaxial compression: two conjugate, X-shaped bands).
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace strata::dem {
@@ -29,6 +30,17 @@ struct HoughOptions {
 /// The strongest lines through `points` (x, y), strongest first. Deterministic.
 std::vector<HoughLine> hough_lines(const std::vector<std::array<double, 2>>& points,
                                    const HoughOptions& options = {});
+
+/// Lines taken one at a time, so that a line is not found again at a nearby angle: each round
+/// takes the strongest line (`options.lines` is not used) through the points left, and `take`
+/// gets it with the signed distances of those points to it and returns the half-width of the
+/// zone about it whose points are set aside before the next round (negative: stop here). At
+/// most `rounds` rounds, while at least `min_points` are left; ends at a line with under
+/// `min_fraction` times the votes of the first (a stray alignment of scattered points).
+/// Deterministic.
+void take_lines(std::vector<std::array<double, 2>> points, HoughOptions options, int rounds,
+                std::size_t min_points, double min_fraction,
+                const std::function<double(const HoughLine&, const std::vector<double>&)>& take);
 
 /// A shear band: a straight, narrow zone of broken bonds.
 struct ShearBand {

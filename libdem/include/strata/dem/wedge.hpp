@@ -73,8 +73,9 @@ struct Wedge {
 /// the toe (the farthest bin from the backstop raised by at least one spacing, before five
 /// bins in a row that are not), the taper (a least-squares line through the profile from
 /// the toe to one spacing short of the backstop), and the faults (Hough lines through the
-/// shear breaks over the wedge, taken one at a time as for conjugate shear bands, kept when
-/// they dip 10-80° and hold at least 0.3 times the breaks of the first). Deterministic.
+/// fault points over the wedge, taken one at a time by take_lines with each line's points
+/// within two spacings set aside, kept when they dip 10-80°; the search ends at a line with
+/// under 0.3 times the votes of the first). Deterministic.
 Wedge measure_wedge(const WedgeInput& in);
 
 }  // namespace strata::dem

@@ -266,7 +266,7 @@ struct OutputTable {
   Located<std::int64_t> checkpoint_every;  ///< steps
   Located<std::int64_t> probe_every;       ///< steps
   Located<bool> vtk, render;
-  Located<std::string> render_field;         ///< "displacement", "velocity", "damage" or "group"
+  Located<std::string> render_field;  ///< "displacement", "velocity", "damage", "group", "shear_strain"
   Located<std::vector<std::string>> fields;  ///< per-particle fields of the VTK frames
   Located<bool> movie, render_while_running, render_contacts, render_cracks;
   Located<std::vector<std::int64_t>> render_size;        ///< pixels: width, height

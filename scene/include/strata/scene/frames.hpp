@@ -68,6 +68,15 @@ io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const E
 /// order of [[wall]]), `normal` and `velocity`. No cells when there are no walls.
 io::MeshFrame wall_frame(const dem::Simulation& sim);
 
+/// Shear strain since the start (after settling) of the particles `only` picks (all when
+/// empty): dem::shear_strain_2d over them, each particle's neighbourhood the others within
+/// 1.5 of their median diameters at the start (the first ring of a lattice, even an eccentric
+/// one). One value per particle; 0 for those left out. 2D.
+std::vector<double> shear_strain_since_start(const std::vector<std::array<double, 3>>& start,
+                                             const std::vector<std::array<double, 3>>& now,
+                                             const std::vector<double>& radii,
+                                             const std::vector<std::uint8_t>& only = {});
+
 /// How pictures show a particle field (render_field / --field): its scale, unit and, for
 /// damage, the fixed range [0, 1]; the group field as categories named `group_names` (by
 /// group index). Shared by `strata run` and `strata render`.
