@@ -20,7 +20,7 @@ std::array<double, 3> ForceHistory::at(double time) const {
   } else {
     const auto it = std::upper_bound(t.begin(), t.end(), time);
     const std::size_t k = static_cast<std::size_t>(it - t.begin());
-    const double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
+    const double w = ramp_weight((time - t[k - 1]) / (t[k] - t[k - 1]), ramp);
     for (int a = 0; a < 3; ++a) r[a] = (1 - w) * f[k - 1][a] + w * f[k][a];
   }
   if (radial) r[1] = r[2] = r[0];  // the magnitude, for every axis of load_dir

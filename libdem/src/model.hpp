@@ -15,6 +15,7 @@
 //   state.cpp        checkpoints (save/load) and the state hash
 // The step kernel itself is strata/dem/detail/step_kernel.hpp, compiled in step.cpp.
 #include <strata/core/parallel.hpp>
+#include <strata/core/ramp.hpp>
 #include <strata/dem/detail/law_engine.hpp>
 #include <strata/dem/detail/model_data.hpp>
 #include <strata/dem/simulation.hpp>
@@ -45,6 +46,7 @@ struct ForceHistory {
   /// position, with the component along `axis` removed (a borehole; axis 0: from the point).
   bool radial = false;
   std::array<double, 3> centre{}, axis{};
+  Ramp ramp = Ramp::Linear;  ///< from one listed force to the next
   /// The force at `time`; a radial load's magnitude on every axis (BcParticle::load_dir
   /// turns it into a vector).
   std::array<double, 3> at(double time) const;

@@ -133,22 +133,23 @@ void Simulation::step_displacement(const std::string& group, std::array<double, 
   m_->bcs_changed();
 }
 void Simulation::force_history(const std::string& group, std::vector<double> times,
-                               std::vector<std::array<double, 3>> forces) {
+                               std::vector<std::array<double, 3>> forces, Ramp ramp) {
   STRATA_CHECK(!times.empty() && times.size() == forces.size(), Input,
                "force_history: {} times and {} forces (need the same number, at least one)", times.size(),
                forces.size());
   STRATA_CHECK(std::is_sorted(times.begin(), times.end()), Input, "force_history: times must be ascending");
   m_->histories.push_back({std::move(times), std::move(forces)});
+  m_->histories.back().ramp = ramp;
   const int h = static_cast<int>(m_->histories.size()) - 1;
   m_->bc_specs.push_back({detail::BcSpec::Force, group_of(*this, group), 0, {}, 0, h});
   m_->bcs_changed();
 }
 void Simulation::radial_force_history(const std::string& group, std::vector<double> times,
                                       std::vector<double> magnitudes, std::array<double, 3> centre,
-                                      std::array<double, 3> axis) {
+                                      std::array<double, 3> axis, Ramp ramp) {
   std::vector<std::array<double, 3>> f;
   for (double m : magnitudes) f.push_back({m, 0, 0});
-  force_history(group, std::move(times), std::move(f));
+  force_history(group, std::move(times), std::move(f), ramp);
   detail::ForceHistory& h = m_->histories.back();
   h.radial = true;
   h.centre = centre;

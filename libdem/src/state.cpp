@@ -32,8 +32,9 @@ using detail::Wall;
 
 // Version of the layout below; a change of layout must raise it. Format 1 had no pair-law
 // names (all its materials use solid_lattice); formats 1 and 2 stored groups as one bit per
-// group (at most 32) instead of group sets, and had no radial loads. All are still read.
-constexpr std::int64_t kFormat = 3;
+// group (at most 32) instead of group sets, and had no radial loads; formats 1 to 3 had
+// linear force histories only (no ramp). All are still read.
+constexpr std::int64_t kFormat = 4;
 constexpr std::int64_t kOldestFormat = 1;
 
 // How a member of type T is stored: bool as uint8, int and enums as int64.
@@ -268,6 +269,14 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
         STRATA_CHECK(centre.size() == 3 && axis.size() == 3, IO, "damaged state: 'dem/{}' centre or axis", p);
         std::copy(centre.begin(), centre.end(), fh.centre.begin());
         std::copy(axis.begin(), axis.end(), fh.axis.begin());
+      }
+    }
+    if (io.has(p + "/ramp")) {  // from format 4; linear before
+      std::int64_t ramp = fh.ramp == Ramp::Smooth ? 1 : 0;
+      io.scalar(p + "/ramp", ramp);
+      if constexpr (Io::kLoading) {
+        STRATA_CHECK(ramp == 0 || ramp == 1, IO, "damaged state: 'dem/{}/ramp' = {}", p, ramp);
+        fh.ramp = ramp == 1 ? Ramp::Smooth : Ramp::Linear;
       }
     }
   }

@@ -100,17 +100,72 @@ std::vector<std::uint32_t> select_nodes(const GroupTable& g, const preprocess::S
   return out;
 }
 
-/// Piecewise-linear interpolation of a force history component (constant after the end).
+/// One component of a force history: from one listed value to the next linearly or
+/// smoothly (strata/core/ramp.hpp), constant outside the listed times.
 struct HistoryComponent {
   std::vector<double> t, f;
+  Ramp ramp = Ramp::Linear;
   double operator()(double time) const {
     if (time <= t.front()) return f.front();
     if (time >= t.back()) return f.back();
     const auto k = std::size_t(std::upper_bound(t.begin(), t.end(), time) - t.begin());
-    const double w = (time - t[k - 1]) / (t[k] - t[k - 1]);
+    const double w = ramp_weight((time - t[k - 1]) / (t[k] - t[k - 1]), ramp);
     return f[k - 1] + w * (f[k] - f[k - 1]);
   }
 };
+
+/// Each node's share of the mesh boundary between `nodes` (sorted): half the length of every
+/// boundary edge (2D) or a third of the area of every boundary triangle (3D) whose corners
+/// are all in `nodes`, in the order of `nodes`. A traction t on that boundary, applied as
+/// t·share at each node, is the consistent load of linear elements.
+std::vector<double> boundary_shares(const preprocess::SimplexMesh& mesh,
+                                    const std::vector<std::uint32_t>& nodes) {
+  const std::size_t npe = std::size_t(mesh.nodes_per_cell()), nf = npe - 1;  // corners per facet
+  std::vector<std::array<std::uint32_t, 3>> facets;  // sorted corners (3D; the third is unused in 2D)
+  facets.reserve(mesh.cell_count() * npe);
+  for (std::size_t e = 0; e < mesh.cell_count(); ++e)
+    for (std::size_t skip = 0; skip < npe; ++skip) {  // the facet opposite corner `skip`
+      std::array<std::uint32_t, 3> f{0, 0, 0};
+      for (std::size_t k = 0, i = 0; k < npe; ++k)
+        if (k != skip) f[i++] = mesh.cells[e * npe + k];
+      if (f[0] > f[1]) std::swap(f[0], f[1]);  // corners in ascending order
+      if (nf == 3) {
+        if (f[1] > f[2]) std::swap(f[1], f[2]);
+        if (f[0] > f[1]) std::swap(f[0], f[1]);
+      }
+      facets.push_back(f);
+    }
+  std::sort(facets.begin(), facets.end());
+  auto member = [&](std::uint32_t n) { return std::binary_search(nodes.begin(), nodes.end(), n); };
+  std::vector<double> share(nodes.size(), 0.0);
+  auto add = [&](std::uint32_t n, double v) {
+    share[std::size_t(std::lower_bound(nodes.begin(), nodes.end(), n) - nodes.begin())] += v;
+  };
+  for (std::size_t i = 0; i < facets.size();) {
+    std::size_t j = i + 1;
+    while (j < facets.size() && facets[j] == facets[i]) ++j;
+    const auto& f = facets[i];
+    const bool boundary = j - i == 1;  // a facet of one cell only
+    i = j;
+    if (!boundary || !std::all_of(f.begin(), f.begin() + std::ptrdiff_t(nf), member)) continue;
+    const auto a = mesh.node(f[0]), b = mesh.node(f[1]);
+    if (nf == 2) {
+      double l2 = 0;
+      for (int c = 0; c < 3; ++c) l2 += (b[c] - a[c]) * (b[c] - a[c]);
+      const double half = 0.5 * std::sqrt(l2);
+      add(f[0], half);
+      add(f[1], half);
+    } else {
+      const auto c = mesh.node(f[2]);
+      const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]},
+                   v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+      const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+      const double third = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) / 6;  // area / 3
+      for (int k = 0; k < 3; ++k) add(f[std::size_t(k)], third);
+    }
+  }
+  return share;
+}
 
 /// The FEM mesh as libfem's: one block per cell group of `mesh` (in group order), each with
 /// the continuum of its material.
@@ -174,9 +229,11 @@ std::map<std::string, std::vector<std::uint32_t>> region_nodes_of(const preproce
 }
 
 /// A radial [[load]] on FEM nodes: each node pushed along the unit vector from the load's
-/// centre (default: the nodes' mean position) to the node, its component along `axis` removed.
-void radial_fem_load(const LoadTable& l, const std::vector<std::uint32_t>& nodes, double share,
-                     const preprocess::SimplexMesh& mesh, fem::Solver& solver) {
+/// centre (default: the nodes' mean position) to the node, its component along `axis` removed,
+/// times its share of the load (in the order of `nodes`).
+void radial_fem_load(const LoadTable& l, const std::vector<std::uint32_t>& nodes,
+                     const std::vector<double>& share, const preprocess::SimplexMesh& mesh,
+                     fem::Solver& solver) {
   const int dim = mesh.dim;
   std::array<double, 3> centre = vec3(l.center);
   if (l.center->empty()) {
@@ -185,12 +242,14 @@ void radial_fem_load(const LoadTable& l, const std::vector<std::uint32_t>& nodes
       for (int a = 0; a < 3; ++a) centre[a] += mesh.node(n)[a] / double(nodes.size());
   }
   const auto axis = vec3(l.axis);
-  for (auto n : nodes) {
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    const std::uint32_t n = nodes[k];
     const auto dir = dem::Simulation::radial_direction(mesh.node(n), centre, axis, dim);
     for (int a = 0; a < dim; ++a) {  // a node at the centre has no direction: no load
       HistoryComponent h;
       h.t = l.times;
-      for (double f : l.magnitudes.value) h.f.push_back(share * f * dir[a]);
+      h.ramp = l.ramp;
+      for (double f : l.magnitudes.value) h.f.push_back(share[k] * f * dir[a]);
       if (std::all_of(h.f.begin(), h.f.end(), [](double f) { return f == 0; })) continue;
       solver.add_load(std::size_t(n) * std::size_t(dim) + std::size_t(a), h);
     }
@@ -241,18 +300,31 @@ void fem_conditions(const Scene& sc, const preprocess::SimplexMesh& mesh,
   for (const auto& l : sc.loads) {
     const auto it = m.fem_groups.find(l.group);
     if (it == m.fem_groups.end()) continue;
-    const double share = l.per == LoadPer::Group ? 1.0 / double(it->second.size()) : 1.0;
+    const std::vector<std::uint32_t>& nodes = it->second;
+    // each node's share of the load: 1, 1/count, or its share of the group's boundary
+    std::vector<double> share(nodes.size(), l.per == LoadPer::Group ? 1.0 / double(nodes.size()) : 1.0);
+    if (l.per == LoadPer::Boundary) {
+      share = boundary_shares(mesh, nodes);
+      if (std::all_of(share.begin(), share.end(), [](double s) { return s == 0; }))
+        l.per.fail(
+            fmt::format("group '{}': no boundary {} of the FEM mesh has all its corners in the group, "
+                        "so a traction has nothing to act on; select FEM nodes along the boundary "
+                        "(e.g. a box around one side)",
+                        l.group.value, dim == 2 ? "edge" : "triangle"));
+    }
     if (l.type == LoadType::Radial) {
-      radial_fem_load(l, it->second, share, mesh, solver);
+      radial_fem_load(l, nodes, share, mesh, solver);
       continue;
     }
-    for (int a = 0; a < dim; ++a) {
-      HistoryComponent h;
-      h.t = l.times;
-      for (const auto& row : l.forces.value) h.f.push_back(share * vec3(row)[a]);
-      if (std::all_of(h.f.begin(), h.f.end(), [](double f) { return f == 0; })) continue;
-      for (auto n : it->second) solver.add_load(std::size_t(n) * std::size_t(dim) + std::size_t(a), h);
-    }
+    for (std::size_t k = 0; k < nodes.size(); ++k)
+      for (int a = 0; a < dim; ++a) {
+        HistoryComponent h;
+        h.t = l.times;
+        h.ramp = l.ramp;
+        for (const auto& row : l.forces.value) h.f.push_back(share[k] * vec3(row)[a]);
+        if (std::all_of(h.f.begin(), h.f.end(), [](double f) { return f == 0; })) continue;
+        solver.add_load(std::size_t(nodes[k]) * std::size_t(dim) + std::size_t(a), h);
+      }
   }
 }
 

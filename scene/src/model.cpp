@@ -589,6 +589,11 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
   }
   for (const auto& l : sc.loads) {
     if (!m.groups.count(l.group)) continue;  // FEM nodes only (fem_model.cpp)
+    if (l.per == LoadPer::Boundary)
+      l.per.fail(
+          fmt::format("group '{}' holds particles: per = \"boundary\" spreads a traction over the "
+                      "boundary of FEM nodes (allowed for particles: \"particle\" or \"group\")",
+                      l.group.value));
     const double sharers = l.per == LoadPer::Group ? double(m.groups.at(l.group)) : 1.0;
     if (l.type == LoadType::Radial) {
       std::vector<double> magnitudes = l.magnitudes;
@@ -601,14 +606,14 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
         for (const auto id : members)
           for (int a = 0; a < 3; ++a) centre[a] += by_id[id][a] / double(members.size());
       }
-      sim.radial_force_history(l.group, l.times, std::move(magnitudes), centre, vec3(l.axis));
+      sim.radial_force_history(l.group, l.times, std::move(magnitudes), centre, vec3(l.axis), l.ramp);
       continue;
     }
     std::vector<std::array<double, 3>> forces;
     for (const auto& row : l.forces.value) forces.push_back(vec3(row));
     for (auto& f : forces)
       for (double& c : f) c /= sharers;
-    sim.force_history(l.group, l.times, std::move(forces));
+    sim.force_history(l.group, l.times, std::move(forces), l.ramp);
   }
   for (const auto& w : sc.walls) {
     const double k = w.stiffness > 0 ? w.stiffness : max_kn;

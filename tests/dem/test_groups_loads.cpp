@@ -3,6 +3,7 @@
 #include "dem_test_util.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/core/state_io.hpp>
 
 #include <gtest/gtest.h>
 
@@ -133,4 +134,29 @@ TEST(DemLoads, RadialLoadIn3DIsNormalToTheBoreholeAxis) {
       if (with_axis) EXPECT_NEAR(v[i][1] + v[i][2], 0.0, 1e-12) << "no push along the axis";
     }
   }
+}
+
+// A smooth ramp through forces [0, P, 0] at times [0, T/2, T] is the sin² pulse P·sin²(πt/T).
+// A free particle of unit mass takes its impulse: at T/4 the velocity is P·T·(1/8 − 1/(4π))
+// (a linear ramp would give P·T/16, 38 % more), and after the pulse P·T/2 (the leapfrog's
+// sum of the force at the step times integrates a sin² period exactly).
+TEST(DemLoads, SmoothRampIsTheSin2Pulse) {
+  const double P = 40.0, T = 1.0;
+  const int n = 4000;  // steps per pulse
+  Simulation sim = loose_particles(2, {{0.0, 0.0, 0.0}});
+  sim.force_history("rim", {0.0, T / 2, T}, {{0, 0, 0}, {P, 0, 0}, {0, 0, 0}}, strata::Ramp::Smooth);
+  sim.initialise();
+  sim.set_dt(T / n);
+  sim.run(n / 4);
+  const double quarter = P * T * (1.0 / 8 - 1.0 / (4 * std::numbers::pi));
+  // the leapfrog's left sum of the rising force lags the integral by F(T/4)·dt/2, up to
+  // F'(T/4)·dt²/12 = 6.5e-7 (Euler-Maclaurin)
+  EXPECT_NEAR(sim.velocities()[0][0], quarter - (P / 2) * (T / n) / 2, 2e-6);
+  sim.run(n - n / 4);
+  EXPECT_NEAR(sim.velocities()[0][0], P * T / 2, 1e-12 * P * T);
+  EXPECT_EQ(sim.velocities()[0][1], 0.0);
+  // and the ramp is kept in a checkpoint (format 4)
+  strata::MemoryState st;
+  sim.save_state(st);
+  EXPECT_EQ(st.get_scalar<std::int64_t>("dem/force_histories/0/ramp"), 1);
 }

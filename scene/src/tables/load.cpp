@@ -4,7 +4,9 @@
 
 namespace strata::scene::tables {
 namespace {
-const Word<LoadPer> kPer[] = {{"particle", LoadPer::Particle}, {"group", LoadPer::Group}};
+const Word<LoadPer> kPer[] = {
+    {"particle", LoadPer::Particle}, {"group", LoadPer::Group}, {"boundary", LoadPer::Boundary}};
+const Word<Ramp> kRamp[] = {{"linear", Ramp::Linear}, {"smooth", Ramp::Smooth}};
 const Word<LoadType> kType[] = {{"force_history", LoadType::ForceHistory}, {"radial", LoadType::Radial}};
 }  // namespace
 
@@ -14,8 +16,9 @@ TableSpec load_spec() {
       true,
       false,
       "A force history applied to a group: a force vector, or a radial push away from a centre such as "
-      "the blast pulse on the rim of a hole (the double-hole plate of Zhao et al. 2021). The force is "
-      "interpolated linearly between the listed times and held after the last.",
+      "the blast pulse on the rim of a hole (the double-hole plate of Zhao et al. 2021), or a traction "
+      "on the boundary of FEM nodes. The force goes from one listed time to the next linearly or "
+      "smoothly (`ramp`) and is held after the last.",
       {
           K("group", String)
               .required()
@@ -51,9 +54,21 @@ TableSpec load_spec() {
           K("per", Choice)
               .choices(words(kPer))
               .def(R"("particle")")
-              .doc("particle: each particle of the group gets the force; group: the force (for radial: "
-                   "the magnitude) is shared equally by the group's particles, as the blast load of Zhao "
-                   "et al. 2021 is shared by the particles on the rim of the hole."),
+              .doc("particle: each particle (or FEM node) of the group gets the force; group: the force "
+                   "(for radial: the magnitude) is shared equally by the group's particles, as the blast "
+                   "load of Zhao et al. 2021 is shared by the particles on the rim of the hole; boundary: "
+                   "the values are a traction on the FEM boundary between the group's nodes, force per "
+                   "unit length in 2D (N/m: the stress times the thickness) and per unit area in 3D (Pa), "
+                   "and each node gets the traction times its share of that boundary (half of each "
+                   "boundary edge in 2D, a third of each boundary triangle in 3D: the consistent load of "
+                   "linear elements). FEM nodes only."),
+          K("ramp", Choice)
+              .choices(words(kRamp))
+              .def(R"("linear")")
+              .doc("linear: the force goes linearly from one listed time to the next; smooth: along a "
+                   "half cosine, w = sin²(π/2·s) of the way s between two times, with zero rate at every "
+                   "listed time: a load applied from rest sends no shock, and forces [0, P, 0] at times "
+                   "[0, T/2, T] are the sin² pulse P·sin²(πt/T)."),
       }};
 }
 
@@ -69,6 +84,7 @@ LoadTable read_load(const Table& t) {
   read("center", l.center);
   read("axis", l.axis);
   read("per", l.per, kPer);
+  read("ramp", l.ramp, kRamp);
   read.done();
   return l;
 }
@@ -78,4 +94,5 @@ LoadTable read_load(const Table& t) {
 namespace strata::scene {
 std::string_view to_string(LoadPer v) { return tables::word_of(tables::kPer, v); }
 std::string_view to_string(LoadType v) { return tables::word_of(tables::kType, v); }
+std::string_view to_string(Ramp v) { return tables::word_of(tables::kRamp, v); }
 }  // namespace strata::scene

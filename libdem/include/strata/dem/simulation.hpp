@@ -11,6 +11,7 @@
 /// Indices: `add_particle` returns the particle's id (0, 1, 2, ... in the order of the
 /// calls). Every function taking particle indices takes ids. Read-access functions return
 /// arrays in the model's internal (spatially sorted) order together with `ids()`.
+#include <strata/core/ramp.hpp>
 #include <strata/dem/laws.hpp>
 #include <strata/dem/material.hpp>
 
@@ -153,19 +154,20 @@ class Simulation {
   /// (rough platens) name both axes.
   void step_displacement(const std::string& group, std::array<double, 3> increment, std::int64_t every_steps,
                          unsigned axes = 0);
-  /// Force on each particle of the group, piecewise linear in time between (times, forces),
-  /// constant outside. A particle takes the last history given for one of its groups.
+  /// Force on each particle of the group, from one (time, force) to the next linearly or
+  /// smoothly (`ramp`, strata/core/ramp.hpp), constant outside. A particle takes the last
+  /// history given for one of its groups.
   void force_history(const std::string& group, std::vector<double> times,
-                     std::vector<std::array<double, 3>> forces);
-  /// A radial force on each particle of the group: magnitude piecewise linear in time between
-  /// (times, magnitudes), constant outside, along the unit vector from `centre` to the
+                     std::vector<std::array<double, 3>> forces, Ramp ramp = Ramp::Linear);
+  /// A radial force on each particle of the group: magnitude from one (time, magnitude) to
+  /// the next linearly or smoothly (`ramp`), constant outside, along the unit vector from `centre` to the
   /// particle's start position, with its component along `axis` removed (a pressure on the
   /// wall of a borehole along `axis`; axis = 0: radial from the point, a spherical charge).
   /// A positive magnitude pushes away from the centre: the blast load on the rim of a hole.
   /// A particle at the centre gets no force. Counts as a force history above.
   void radial_force_history(const std::string& group, std::vector<double> times,
                             std::vector<double> magnitudes, std::array<double, 3> centre,
-                            std::array<double, 3> axis = {0, 0, 0});
+                            std::array<double, 3> axis = {0, 0, 0}, Ramp ramp = Ramp::Linear);
   /// The unit vector a radial load pushes a point at `x` along (the first `dim` components
   /// used): from `centre` to x, its component along `axis` removed (axis 0: none); zero for
   /// a point at the centre (or on the axis).

@@ -9,6 +9,7 @@
 /// default always has a value (given = false when defaulted); a key without one has
 /// given = false and a value-initialised T when the scene leaves it out.
 #include <strata/core/error.hpp>
+#include <strata/core/ramp.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -109,8 +110,9 @@ enum class GroupSelect {
 };
 /// [[boundary]] type: held, moved at a velocity, or moved in steps.
 enum class BoundaryType { Fixed, Velocity, StepDisplacement };
-/// [[load]] per: the force acts on each particle, or is shared by the group.
-enum class LoadPer { Particle, Group };
+/// [[load]] per: the force acts on each particle (or FEM node), is shared by the group, or
+/// is a traction spread over the boundary of the group's FEM nodes.
+enum class LoadPer { Particle, Group, Boundary };
 /// [[load]] type: force vectors, or magnitudes pushing away from a centre.
 enum class LoadType { ForceHistory, Radial };
 /// [solver] damping.
@@ -129,6 +131,7 @@ std::string_view to_string(GroupSelect v);
 std::string_view to_string(BoundaryType v);
 std::string_view to_string(LoadPer v);
 std::string_view to_string(LoadType v);
+std::string_view to_string(Ramp v);
 std::string_view to_string(SolverDamping v);
 std::string_view to_string(ContactDetection v);
 std::string_view to_string(SolverCoupling v);
@@ -223,6 +226,7 @@ struct LoadTable {
   Located<std::vector<double>> center;               ///< m (radial; empty: the group's mean position)
   Located<std::vector<double>> axis;                 ///< 3D radial: a borehole's axis (empty: none)
   Located<LoadPer> per;
+  Located<Ramp> ramp;  ///< from one listed value to the next
 };
 
 /// [[wall]]: a rigid flat wall.
