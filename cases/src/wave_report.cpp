@@ -14,16 +14,21 @@
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
 #include <strata/io/render.hpp>
-#include <strata/io/series.hpp>
 #include <strata/scene/files.hpp>
+#include <strata/scene/run.hpp>
+
+#include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
 #include <map>
+#include <memory>
+#include <optional>
 
 #include <strata/cases/chain_report.hpp>
 #include <strata/scene/frames.hpp>
@@ -31,12 +36,8 @@
 
 namespace strata::cases {
 
-using scene::bond_frame;
 using scene::fem_frame;
-using scene::field_style;
-using scene::FrameSelection;
 using scene::particle_frame;
-using scene::write_file_atomic;
 
 namespace {
 
@@ -54,37 +55,6 @@ double seconds_since(Clock::time_point t0) {
 
 // The bonds of Liu, Pollard & Shi 2013 (elastic: the pulse must not break anything).
 constexpr double kKn = 6.587e10, kKs = 2.371e10, kRho = 2.65e3;
-
-fem::Mesh fem_mesh(const WaveModel& m) {
-  const preprocess::SimplexMesh& s = m.overlap.fem;
-  fem::Mesh mesh;
-  mesh.dim = 2;
-  for (std::size_t n = 0; n < s.node_count(); ++n) mesh.add_node(s.x[n], s.y[n]);
-  fem::ElementBlock b;
-  b.type = fem::ElementType::Tri3;
-  b.material.E = m.E;
-  b.material.nu = m.nu;
-  b.material.rho = m.rho;  // kg/m² of the lattice over a thickness of 1 m
-  b.material.thickness = 1;
-  b.material.plane = fem::PlaneMode::Stress;
-  b.conn.assign(s.cells.begin(), s.cells.end());
-  mesh.blocks.push_back(std::move(b));
-  return mesh;
-}
-
-// Lateral extremes of the FEM block (roller lines).
-std::vector<std::uint32_t> fem_roller_nodes(const WaveModel& m) {
-  const preprocess::SimplexMesh& s = m.overlap.fem;
-  const int lat = 1 - m.overlap.axis;
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (std::size_t n = 0; n < s.node_count(); ++n)
-    lo = std::min(lo, s.node(n)[lat]), hi = std::max(hi, s.node(n)[lat]);
-  std::vector<std::uint32_t> out;
-  const double tol = 1e-6 * m.d;
-  for (std::uint32_t n = 0; n < s.node_count(); ++n)
-    if (s.node(n)[lat] < lo + tol || s.node(n)[lat] > hi - tol) out.push_back(n);
-  return out;
-}
 
 struct Plan {
   double T = 0, t_inc = 0, t_ref = 0, t_tra = 0, t_end = 0, sigma0 = 0;
@@ -151,24 +121,65 @@ std::string scheme_name(const WaveModel& m, int eta, const std::string& scheme) 
   return eta * m.dt_dem <= m.fem_explicit_dt ? "central-difference" : "implicit-newmark";
 }
 
-// ---- the two partitions and their overlap, as every run builds them ----
+// ---- the model as a scene: every run builds and steps it through the scene library ----
 
-// DEM partition: the lattice, bonded, rollers on the end particles of every column.
-dem::Simulation wave_dem(const WaveModel& m) {
+// The smallest box around `pts` (2D), widened by `tol`; no point of `others` may fall inside
+// (the box selects exactly `pts`).
+std::pair<std::array<double, 2>, std::array<double, 2>> box_around(
+    const std::vector<std::array<double, 3>>& pts, const std::vector<std::array<double, 3>>& others,
+    double tol, const char* what) {
+  STRATA_CHECK(!pts.empty(), Internal, "wave: no {} to select", what);
+  std::array<double, 2> lo{HUGE_VAL, HUGE_VAL}, hi{-HUGE_VAL, -HUGE_VAL};
+  for (const auto& p : pts)
+    for (int a = 0; a < 2; ++a) lo[a] = std::min(lo[a], p[a] - tol), hi[a] = std::max(hi[a], p[a] + tol);
+  for (const auto& p : others)
+    STRATA_CHECK(p[0] < lo[0] || p[0] > hi[0] || p[1] < lo[1] || p[1] > hi[1], Internal,
+                 "wave: the box around the {} also holds the point ({}, {})", what, p[0], p[1]);
+  return {lo, hi};
+}
+
+// A [[group]] selecting the box `b` (from `region`; empty: every region and FEM node).
+std::string group_text(const std::string& name, const std::string& region,
+                       const std::pair<std::array<double, 2>, std::array<double, 2>>& b) {
+  return fmt::format(
+      "[[group]]\nname = \"{}\"\nregion = \"{}\"\nselect = \"box\"\nbox_min = [{:.17g}, {:.17g}]\n"
+      "box_max = [{:.17g}, {:.17g}]\n\n",
+      name, region, b.first[0], b.first[1], b.second[0], b.second[1]);
+}
+
+// What one run of the sweep is: the pulse (none: a model for its stability numbers only), η,
+// the coupling, the FEM integrator, the DEM steps and the frames of its series.
+struct WavePoint {
+  const Plan* pulse = nullptr;
+  int eta = 1;
+  couple::Execution mode = couple::Execution::Serial;
+  std::string scheme = "central-difference";
+  std::int64_t dem_steps = 0;
+  int frames = 0;
+};
+
+// The coupled model of one run as a scene: the lattice (the bonds of Liu, Pollard & Shi 2013,
+// unbreakable, no contact search, no damping) and the FEM block(s) from the geometry file,
+// rollers on the lateral sides of both (every FEM node on them, the end particles of every
+// lattice column), and the sin² traction pulse on the FEM's far side (a smooth ramp through
+// 0, σ0, 0 spread over that side, per = "boundary"). η·dt_DEM above the particles' step is
+// allowed: measuring where the exchange grows unstable is the point of the sweep.
+scene::Scene wave_scene(const WaveModel& m, const WaveOptions& opt, const WavePoint& w) {
   const auto& ov = m.overlap;
-  const int lat = 1 - ov.axis;
-  dem::Settings ds;
-  ds.dt = m.dt_dem;
-  ds.contact_detection = false;  // elastic bonded lattice: no new contacts
-  dem::Simulation sim(2, ds);
-  dem::Material mat;
-  mat.density = m.rho;
-  mat.kn = m.kn;
-  mat.ks = m.ks;
-  const int mi = sim.add_material(mat);
-  sim.reserve(ov.particles.size());
-  for (const auto& x : ov.particles.x) sim.add_particle(x, ov.particles.radius, mi);
-  sim.bond_touching_pairs();
+  const int ax = ov.axis, lat = 1 - ax;
+  const double tol = 1e-6 * m.d;
+  // FEM nodes: the roller lines (lateral extremes) and the loaded side
+  std::vector<std::array<double, 3>> nodes;
+  for (std::size_t n = 0; n < ov.fem.node_count(); ++n) nodes.push_back(ov.fem.node(n));
+  double lo = HUGE_VAL, hi = -HUGE_VAL;
+  for (const auto& x : nodes) lo = std::min(lo, x[lat]), hi = std::max(hi, x[lat]);
+  std::vector<std::array<double, 3>> low, high, loaded, rest_low, rest_high, rest_loaded;
+  for (const auto& x : nodes) {
+    (x[lat] < lo + tol ? low : rest_low).push_back(x);
+    (x[lat] > hi - tol ? high : rest_high).push_back(x);
+    (ov.depth(x) > m.load_depth - tol ? loaded : rest_loaded).push_back(x);
+  }
+  // Particles: the lowest and highest of every lattice column
   std::map<long, std::pair<std::uint32_t, std::uint32_t>> ends;  // column -> (lowest, highest)
   for (std::uint32_t i = 0; i < ov.particles.size(); ++i) {
     const long col = std::lround(ov.depth(ov.particles.x[i]) / ov.layer_spacing);
@@ -177,108 +188,60 @@ dem::Simulation wave_dem(const WaveModel& m) {
     if (ov.particles.x[i][lat] < ov.particles.x[it->second.first][lat]) it->second.first = i;
     if (ov.particles.x[i][lat] > ov.particles.x[it->second.second][lat]) it->second.second = i;
   }
-  std::vector<std::uint32_t> rollers;
-  for (const auto& [col, e] : ends) rollers.push_back(e.first), rollers.push_back(e.second);
-  sim.add_to_group(rollers, "rollers");
-  sim.fix("rollers", lat == 0 ? dem::kX : dem::kY);
-  return sim;
-}
-
-// FEM partition: the mesh with rollers on the lateral sides (the load is run_wave's).
-fem::Solver wave_fem(const WaveModel& m, const std::string& scheme, double dt_fem) {
-  fem::SolverSettings fs;
-  fs.scheme = fem::scheme_from_string(scheme);
-  fs.dt = dt_fem;
-  fem::Solver solver(fem_mesh(m), fs);
-  for (auto n : fem_roller_nodes(m)) solver.fix(2 * n + (1 - m.overlap.axis));
-  return solver;
-}
-
-// The overlap: one common id per coincident (particle, node) pair and axis.
-couple::Overlap wave_overlap(const WaveModel& m, std::size_t dem_dofs, std::size_t fem_dofs) {
-  const auto& ov = m.overlap;
-  std::vector<std::int64_t> dem_ids(dem_dofs), fem_ids(fem_dofs);
-  std::vector<couple::Role> dem_roles(dem_dofs, couple::Role::Internal),
-      fem_roles(fem_dofs, couple::Role::Internal);
-  auto role = [](preprocess::OverlapTag t) {
-    return t == preprocess::OverlapTag::Boundary   ? couple::Role::Boundary
-           : t == preprocess::OverlapTag::External ? couple::Role::External
-                                                   : couple::Role::Internal;
-  };
-  for (std::size_t d = 0; d < dem_ids.size(); ++d)
-    dem_ids[d] = 1'000'000'000'000 + static_cast<std::int64_t>(d);
-  for (std::size_t d = 0; d < fem_ids.size(); ++d)
-    fem_ids[d] = 2'000'000'000'000 + static_cast<std::int64_t>(d);
-  for (std::size_t k = 0; k < ov.pair_particle.size(); ++k) {
-    const std::uint32_t pi = ov.pair_particle[k], ni = ov.pair_node[k];
-    for (int a = 0; a < 2; ++a) {
-      dem_ids[2 * pi + a] = fem_ids[2 * ni + a] = static_cast<std::int64_t>(2 * k + a);
-      dem_roles[2 * pi + a] = role(ov.particle_tag[pi]);
-      fem_roles[2 * ni + a] = role(ov.node_tag[ni]);
-    }
+  std::vector<char> role(ov.particles.size(), 0);  // 1 lowest, 2 highest of its column
+  for (const auto& [col, e] : ends) role[e.first] |= 1, role[e.second] |= 2;
+  std::vector<std::array<double, 3>> p_low, p_high, p_rest_low, p_rest_high;
+  for (std::uint32_t i = 0; i < ov.particles.size(); ++i) {
+    if (ov.particle_tag[i] == preprocess::OverlapTag::External) continue;  // driven by the FEM
+    (role[i] & 1 ? p_low : p_rest_low).push_back(ov.particles.x[i]);
+    (role[i] & 2 ? p_high : p_rest_high).push_back(ov.particles.x[i]);
   }
-  return couple::make_overlap(fem_ids, fem_roles, dem_ids, dem_roles);
-}
-
-// ---- VTK series and pictures of one run ----
-
-// The coupled state at the start of a system step, after the overlap exchange: the external
-// sites hold the values the coupler copies (X_E(DEM) = X_B(FEM), X_E(FEM) = X_B(DEM)), so
-// coincident sites show the same displacement and velocity in both files. Point array
-// "overlap" on both sides: 0 internal, 1 boundary, 2 external (preprocess::OverlapTag).
-struct FramePair {
-  io::PointCloud particles;
-  io::MeshFrame mesh;
-};
-
-io::Array* point_array(io::MeshFrame& f, std::string_view name) {
-  for (auto& a : f.point_data)
-    if (a.name == name) return &a;
-  STRATA_CHECK(false, Internal, "wave: the FEM frame has no point array {}", name);
-  return nullptr;
-}
-
-FramePair coupled_frames(const WaveModel& m, const fem::Mesh& mesh, const couple::FemPartition& fem,
-                         const couple::DemPartition& dem, std::int64_t system_step) {
-  const auto& ov = m.overlap;
-  const double t = fem.time();
-  FramePair f;
-  f.mesh = fem_frame(mesh, fem.solver().u(), fem.solver().v(), t, system_step);
-  f.particles = particle_frame(dem.simulation(), {"id", "displacement", "velocity"});
-  f.particles.time = t;
-  const auto ids = dem.simulation().ids();  // frame index -> particle id (= overlap index)
-  std::vector<std::size_t> index_of(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) index_of[ids[i]] = i;
-  io::Array ptag{"overlap", 1, std::vector<double>(ids.size()), io::ArrayType::UInt8};
-  for (std::size_t i = 0; i < ids.size(); ++i) ptag.values[i] = double(int(ov.particle_tag[ids[i]]));
-  io::Array ntag{"overlap", 1, std::vector<double>(ov.node_tag.size()), io::ArrayType::UInt8};
-  for (std::size_t n = 0; n < ov.node_tag.size(); ++n) ntag.values[n] = double(int(ov.node_tag[n]));
-  io::Array& pu = *f.particles.find("displacement");
-  io::Array& pv = *f.particles.find("velocity");
-  io::Array& mu = *point_array(f.mesh, "displacement");
-  io::Array& mv = *point_array(f.mesh, "velocity");
-  for (std::size_t k = 0; k < ov.pair_particle.size(); ++k) {
-    const std::uint32_t pi = ov.pair_particle[k], ni = ov.pair_node[k];
-    const std::size_t i = index_of[pi];
-    for (std::size_t a = 0; a < 2; ++a) {
-      if (ov.particle_tag[pi] == preprocess::OverlapTag::External) {  // DEM external <- FEM boundary
-        const double u = fem.displacement(2 * ni + a), v = fem.velocity(2 * ni + a);
-        pu.values[3 * i + a] = u;
-        pv.values[3 * i + a] = v;
-        f.particles.xyz[3 * i + a] = ov.particles.x[pi][a] + u;
-      } else {  // FEM external <- DEM boundary
-        mu.values[3 * ni + a] = dem.displacement(2 * pi + a);
-        mv.values[3 * ni + a] = dem.velocity(2 * pi + a);
-      }
-    }
+  const std::string lat_axis = lat == 0 ? "x" : "y";
+  const std::string geo = fs::absolute(m.geometry).string();
+  std::string t = fmt::format(
+      "[scene]\ntitle = \"coupled wave\"\ndimension = 2\nthickness = 1.0\n\n"
+      "[[material]]\nname = \"lattice\"\ndensity = {:.17g}\nkn = {:.17g}\nks = {:.17g}\n\n"
+      "[[region]]\nname = \"particles\"\nkind = \"particles\"\nmaterial = \"lattice\"\nshape = \"file\"\n"
+      "file = \"{}\"\nphysical = \"{}\"\ndiameter = {:.17g}\n\n",
+      m.rho, m.kn, m.ks, geo, opt.particle_region, m.d);
+  std::vector<std::string> fem_regions{opt.fem_region};
+  if (m.embedded) fem_regions.push_back(opt.exit_region.empty() ? "fem_exit" : opt.exit_region);
+  for (std::size_t k = 0; k < fem_regions.size(); ++k)
+    t += fmt::format(
+        "[[region]]\nname = \"fem{}\"\nkind = \"fem\"\nmaterial = \"lattice\"\nshape = \"file\"\nfile = "
+        "\"{}\"\n"
+        "physical = \"{}\"\nmesh_size = {:.17g}\n\n",
+        k, geo, fem_regions[k], opt.fem_far_size * m.d);
+  t += group_text("fem_low", "", box_around(low, rest_low, tol, "lower FEM side"));
+  t += group_text("fem_high", "", box_around(high, rest_high, tol, "upper FEM side"));
+  t += group_text("ends_low", "particles", box_around(p_low, p_rest_low, tol, "lower column ends"));
+  t += group_text("ends_high", "particles", box_around(p_high, p_rest_high, tol, "upper column ends"));
+  for (const char* g : {"fem_low", "fem_high", "ends_low", "ends_high"})
+    t += fmt::format("[[boundary]]\ngroup = \"{}\"\ntype = \"fixed\"\naxes = [\"{}\"]\n\n", g, lat_axis);
+  if (w.pulse) {
+    t += group_text("loaded", "fem0", box_around(loaded, rest_loaded, tol, "loaded FEM side"));
+    std::array<double, 2> peak{0, 0};
+    peak[std::size_t(ax)] = -ov.fem_side * w.pulse->sigma0;  // into the particles
+    t += fmt::format(
+        "[[load]]\ngroup = \"loaded\"\ntimes = [0.0, {:.17g}, {:.17g}]\n"
+        "forces = [[0.0, 0.0], [{:.17g}, {:.17g}], [0.0, 0.0]]\nper = \"boundary\"\nramp = \"smooth\"\n\n",
+        w.pulse->T / 2, w.pulse->T, peak[0], peak[1]);
   }
-  f.particles.point_data.push_back(std::move(ptag));
-  f.mesh.point_data.push_back(std::move(ntag));
-  return f;
+  t += fmt::format(
+      "[solver]\ndt = {:.17g}\nsteps = {}\neta = {}\ncoupling = \"{}\"\nfem_integrator = \"{}\"\n"
+      "damping = \"none\"\ncontact_detection = \"off\"\nallow_unstable = true\nthreads = {}\n\n"
+      "[output]\nframes = {}\nrender = false\nprobe_every = {}\n",
+      m.dt_dem, std::max<std::int64_t>(w.dem_steps, w.eta), w.eta, couple::to_string(w.mode), w.scheme,
+      opt.threads, w.frames, std::max<std::int64_t>(w.dem_steps, w.eta));
+  return scene::parse(t, (fs::absolute(m.geometry).parent_path() / "wave.generated.toml").string(), {});
 }
 
 // The part of a frame pair within [lo, hi] along `axis` (particles by centre, triangles with
 // all three nodes inside), for a picture of the overlap.
+struct FramePair {
+  io::PointCloud particles;
+  io::MeshFrame mesh;
+};
 FramePair crop(const FramePair& in, int axis, double lo, double hi) {
   FramePair out;
   const io::PointCloud& p = in.particles;
@@ -337,39 +300,33 @@ FramePair crop(const FramePair& in, int axis, double lo, double hi) {
   return out;
 }
 
-// Runs the coupled model for `steps` system steps, writing `ws.frames` evenly spaced frame
-// pairs (system steps 0 .. steps) into ws.dir and, with ws.pictures, PNGs of the pulse
-// crossing the overlap: its centre (c·(t − T/2) from the loaded side) 30 d before, on and
-// 30 d past the interface (embedded: on the first interface, in the middle of the strip, on
-// the second interface, 20 d past it), cropped around the overlap(s).
-void run_with_series(const WaveModel& m, const Plan& p, const WaveRun& r, couple::FemPartition& fem,
-                     couple::DemPartition& dem, couple::Coupler& cp, std::int64_t steps, WaveSeries& ws) {
+// Pictures of the pulse crossing the overlap, drawn while the run goes: its centre
+// (c·(t − T/2) from the loaded side) 30 d before, on and 30 d past the interface (embedded:
+// on the first interface, in the middle of the strip, on the second interface, 20 d past
+// it), cropped around the overlap(s), FEM mesh and particles coloured by the velocity along
+// the wave on one scale. Drawn after the FEM step of that time (serial coupling: the
+// particles are then one system step behind).
+void watch_crossing(const WaveModel& m, const Plan& p, const WaveRun& r, scene::BuiltModel& model,
+                    std::int64_t steps, WaveSeries& ws) {
   const auto& ov = m.overlap;
-  const fem::Mesh mesh = fem_mesh(m);
-  io::Series ps(ws.dir, "particles"), fs(ws.dir, "fem");
-  std::map<std::int64_t, int> at;  // system step -> 1 frame, 2 picture, 3 both
-  for (int k = 0; k < ws.frames; ++k)
-    at[ws.frames == 1 ? 0 : std::llround(double(k) * double(steps) / double(ws.frames - 1))] |= 1;
   const double D = m.dem_length;
   const std::vector<double> centres = m.embedded ? std::vector<double>{0, D / 2, D, D + 20 * m.d}
                                                  : std::vector<double>{-30 * m.d, 0, 30 * m.d};
-  if (ws.pictures)
-    for (double c : centres) {
-      const double t = (m.load_depth + c) / m.c + p.T / 2;
-      at[std::clamp<std::int64_t>(std::llround(t / r.dt_fem), 0, steps)] |= 2;
-    }
+  auto at = std::make_shared<std::vector<std::int64_t>>();  // FEM steps, ascending
+  for (double c : centres) {
+    const double t = (m.load_depth + c) / m.c + p.T / 2;
+    at->push_back(std::clamp<std::int64_t>(std::llround(t / r.dt_fem), 0, steps));
+  }
+  std::sort(at->begin(), at->end());
+  at->erase(std::unique(at->begin(), at->end()), at->end());
   // picture window along the propagation axis: 60 d (embedded: 40 d) each side of the overlap(s)
   double lo = ov.interface, hi = ov.interface;
   for (const auto& g : ov.interfaces) lo = std::min(lo, g.coordinate), hi = std::max(hi, g.coordinate);
   const double margin = (m.embedded ? 40 : 60) * m.d;
   lo -= margin, hi += margin;
-  double width = 0;  // lateral extent
-  {
-    double a = HUGE_VAL, b = -HUGE_VAL;
-    for (std::size_t n = 0; n < ov.fem.node_count(); ++n)
-      a = std::min(a, ov.fem.node(n)[1 - ov.axis]), b = std::max(b, ov.fem.node(n)[1 - ov.axis]);
-    width = b - a;
-  }
+  double a = HUGE_VAL, b = -HUGE_VAL;  // lateral extent
+  for (std::size_t n = 0; n < ov.fem.node_count(); ++n)
+    a = std::min(a, ov.fem.node(n)[1 - ov.axis]), b = std::max(b, ov.fem.node(n)[1 - ov.axis]);
   io::RenderStyle style;
   style.field = "velocity";
   style.component = ov.axis;
@@ -379,41 +336,36 @@ void run_with_series(const WaveModel& m, const Plan& p, const WaveRun& r, couple
   style.colormap = io::Colormap::CoolWarm;
   style.range = std::array<double, 2>{-r.v0, r.v0};
   style.width = 1800;
-  style.height = std::clamp(int(std::lround(1800 * width / (hi - lo))) + 300, 500, 1400);
+  style.height = std::clamp(int(std::lround(1800 * (b - a) / (hi - lo))) + 300, 500, 1400);
   style.title = fmt::format(
       "coupled FEM-DEM wave{}: lambda = {:g} d, eta = {}; FEM mesh and particles, one "
       "colour scale",
       m.embedded ? " (FEM | DEM | FEM)" : "", r.lambda_d, r.eta);
-  std::int64_t done = 0;
-  int picture = 0;
-  for (const auto& [step, what] : at) {
-    cp.run(step - done);
-    done = step;
-    const FramePair f = coupled_frames(m, mesh, fem, dem, step);
-    if (what & 1) {
-      ps.add_particles(*f.particles.time, f.particles);
-      fs.add_mesh(*f.mesh.time, f.mesh);
-    }
-    if ((what & 2) && ws.pictures) {
-      const FramePair c = crop(f, ov.axis, lo, hi);
-      io::RenderRequest rq;
-      rq.particles = &c.particles;
-      rq.mesh = &c.mesh;
-      rq.style = style;
-      rq.png = ws.dir / "png" / fmt::format("crossing_{}.png", picture++);
-      try {
-        io::render_frame(rq);
-        ws.pngs.push_back(rq.png);
-      } catch (const Error& e) {
-        if (e.kind() != ErrorKind::Unsupported) throw;
-        log::warn("no pictures: {}", e.what());
-        ws.pictures = false;
-      }
-    }
-  }
-  cp.run(steps - done);
+  auto step = std::make_shared<std::int64_t>(1);  // the model is initialised: the next call is step 1
+  model.coupler().observe_fem(
+      [at, step, style, lo, hi, axis = ov.axis, &model, &ws](const couple::Partition& f) {
+        const std::int64_t now = (*step)++;
+        if (!ws.pictures || !std::binary_search(at->begin(), at->end(), now)) return;
+        FramePair fp;
+        fp.particles = particle_frame(model.sim(), {"id", "displacement", "velocity"});
+        fp.particles.time = f.time();
+        fp.mesh = fem_frame(model.fem().mesh(), model.fem().u(), model.fem().v(), f.time(), now);
+        const FramePair c = crop(fp, axis, lo, hi);
+        io::RenderRequest rq;
+        rq.particles = &c.particles;
+        rq.mesh = &c.mesh;
+        rq.style = style;
+        rq.png = ws.dir / "png" / fmt::format("crossing_{}.png", ws.pngs.size());
+        try {
+          io::render_frame(rq);
+          ws.pngs.push_back(rq.png);
+        } catch (const Error& e) {
+          if (e.kind() != ErrorKind::Unsupported) throw;
+          log::warn("no pictures: {}", e.what());
+          ws.pictures = false;
+        }
+      });
 }
-
 }  // namespace
 
 WaveModel build_wave_model(const WaveOptions& opt) {
@@ -478,15 +430,9 @@ WaveModel build_wave_model(const WaveOptions& opt) {
     if (std::abs(-ov.depth(p) - m.dem_length / 3) < std::abs(best - m.dem_length / 3)) best = -ov.depth(p);
   m.dem_gauge_depth = best;
 
-  // FEM explicit limit with rollers fixed and the overlap's external nodes held
-  fem::SolverSettings fs;
-  fs.dt = m.dt_dem;
-  fem::Solver probe(fem_mesh(m), fs);
-  for (auto n : fem_roller_nodes(m)) probe.fix(2 * n + (1 - ov.axis));
-  for (std::uint32_t n = 0; n < ov.node_tag.size(); ++n)
-    if (ov.node_tag[n] == preprocess::OverlapTag::External)
-      probe.prescribe(2 * n), probe.prescribe(2 * n + 1);
-  m.fem_explicit_dt = probe.stability().explicit_dt_crit;
+  // FEM explicit limit, rollers fixed and the overlap's external nodes held: the model's own
+  m.fem_explicit_dt =
+      scene::build_model(wave_scene(m, opt, WavePoint{}), /*force=*/true).fem_explicit_dt_crit;
   return m;
 }
 
@@ -495,7 +441,7 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   STRATA_CHECK(eta >= 1, Input, "wave: eta = {} must be an integer >= 1", eta);
   const Plan p = plan_of(m, opt, lambda_d);
   const auto& ov = m.overlap;
-  const int ax = ov.axis, lat = 1 - ax;
+  const int ax = ov.axis;
   const double dir = -ov.fem_side;  // propagation direction along `ax`: from the FEM into the particles
 
   WaveRun r;
@@ -512,7 +458,10 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   r.t_tra = p.t_tra;
   r.t_ref2 = p.t_ref2;
   r.t_exit = p.t_exit;
-  const std::int64_t steps = static_cast<std::int64_t>(std::ceil(p.t_end / r.dt_fem));
+  std::int64_t steps = static_cast<std::int64_t>(std::ceil(p.t_end / r.dt_fem));
+  // the series: `frames` frames at evenly spaced system steps, t = 0 and the end included
+  const int gaps = series ? std::max(1, series->frames - 1) : 1;
+  steps = (steps + gaps - 1) / gaps * gaps;
   r.duration = static_cast<double>(steps) * r.dt_fem;
 
   // threads of the loops inside the partitions, for this run only
@@ -522,42 +471,64 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
     ~ScopedThreads() { par::set_threads(before); }
   } scoped_threads(opt.threads);
   const auto t0 = Clock::now();
-  // ---- DEM partition: the lattice, bonded, rollers on the end particles of every column ----
-  couple::DemPartition dem(wave_dem(m));
-
-  // ---- FEM partition: rollers on the lateral sides, the traction pulse on the far side ----
-  fem::Solver solver = wave_fem(m, r.fem_scheme, r.dt_fem);
-  {
-    std::vector<std::pair<double, std::uint32_t>> edge;  // (lateral coordinate, node)
-    for (std::uint32_t n = 0; n < ov.fem.node_count(); ++n)
-      if (ov.depth(ov.fem.node(n)) > m.load_depth - 1e-6 * m.d) edge.emplace_back(ov.fem.node(n)[lat], n);
-    std::sort(edge.begin(), edge.end());
-    STRATA_CHECK(edge.size() >= 2, Internal, "wave: the loaded FEM side has {} nodes", edge.size());
-    for (std::size_t k = 0; k < edge.size(); ++k) {
-      // consistent load of a uniform traction on linear edges: half of each adjacent edge
-      const double len = 0.5 * ((k > 0 ? edge[k].first - edge[k - 1].first : 0) +
-                                (k + 1 < edge.size() ? edge[k + 1].first - edge[k].first : 0));
-      const double amp = dir * p.sigma0 * len, T = p.T;
-      solver.add_load(2 * edge[k].second + ax, [amp, T](double t) {
-        if (t <= 0 || t >= T) return 0.0;
-        const double s = std::sin(M_PI * t / T);
-        return amp * s * s;
-      });
+  // ---- the model, built and stepped through the scene library's one run path ----
+  WavePoint w;
+  w.pulse = &p;
+  w.eta = eta;
+  w.mode = mode;
+  w.scheme = r.fem_scheme;
+  w.dem_steps = steps * eta;
+  w.frames = series && series->frames > 0 ? gaps : 0;
+  const scene::Scene sc = wave_scene(m, opt, w);
+  // the run's own files: the series folder, or a scratch folder removed afterwards
+  struct Scratch {
+    fs::path dir;
+    bool keep = false;
+    ~Scratch() {
+      std::error_code ec;
+      if (!keep) fs::remove_all(dir, ec);
     }
+  } out;
+  static std::atomic<int> counter{0};
+  out.keep = series != nullptr;
+  out.dir = series ? series->dir
+                   : fs::temp_directory_path() / fmt::format("strata_wave_{}_{}", ::getpid(), counter++);
+  std::optional<scene::Run> run;
+  try {
+    run.emplace(sc, scene::RunOptions{out.dir, /*force=*/true, {}});
+  } catch (const Error& e) {
+    if (e.kind() != ErrorKind::Input) throw;
+    r.status = std::string("refused: ") + e.what();
+    return r;
   }
+  scene::BuiltModel& model = run->model();
+  const couple::Partition& fem = *model.fem_partition_;
+  const couple::Partition& dem = *model.dem_partition_;
+  // An explicit FEM above its limit is refused as the coupler would refuse it (the scene
+  // allows it only so that an unstable exchange can be measured).
+  const couple::CoupledStability cs =
+      couple::coupled_stability(*model.fem_partition_, *model.dem_partition_, eta);
+  if (!cs.problems.empty()) {
+    r.status = fmt::format("refused: {}", fmt::join(cs.problems, "; "));
+    return r;
+  }
+
+  // ---- gauges: read after every step of their partition ----
   // FEM gauge bands: nodes within half an element of the gauge line (at `depth` from the
-  // interface `gi`, into its FEM block)
+  // interface `gi`, into its FEM block), weighted by their lumped mass
+  const fem::Solver& solver = model.fem();
+  const fem::Mesh& mesh = solver.mesh();
   const fem::Assembled& sys = solver.system();
   auto gauge_band = [&](const preprocess::OverlapInterface& gi, double depth, std::vector<std::size_t>& band,
                         std::vector<double>& band_m) {
     const double h = std::min(opt.fem_far_size * m.d, m.d + opt.fem_growth * depth);
-    for (double w = 0.5 * h; band.size() < 2; w *= 1.5) {
+    for (double wb = 0.5 * h; band.size() < 2; wb *= 1.5) {
       band.clear();
       band_m.clear();
-      for (std::uint32_t n = 0; n < ov.fem.node_count(); ++n)
-        if (std::abs(gi.depth(ov.fem.node(n)) - depth) <= w) {
-          band.push_back(2 * n + ax);
-          band_m.push_back(sys.mass[static_cast<Eigen::Index>(2 * n + ax)]);
+      for (std::size_t n = 0; n < mesh.nodes(); ++n)
+        if (std::abs(gi.depth({mesh.x[0][n], mesh.x[1][n], 0.0}) - depth) <= wb) {
+          band.push_back(2 * n + std::size_t(ax));
+          band_m.push_back(sys.mass[static_cast<Eigen::Index>(2 * n + std::size_t(ax))]);
         }
     }
   };
@@ -565,56 +536,53 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   std::vector<double> band_m, exit_m;
   gauge_band(ov.interfaces[0], m.fem_gauge_depth, band, band_m);
   if (m.embedded) gauge_band(ov.interfaces[1], m.exit_gauge_depth, exit_band, exit_m);
-  couple::FemPartition fem(std::move(solver));
-
-  // ---- overlap: one common id per coincident (particle, node) pair and axis ----
-  couple::Coupler cp(fem, dem, wave_overlap(m, dem.dofs(), fem.dofs()), eta, mode);
-
-  // ---- gauges ----
   auto band_velocity = [dir](const couple::Partition& f, const std::vector<std::size_t>& dofs,
                              const std::vector<double>& mass) {
     double s = 0, msum = 0;
     for (std::size_t k = 0; k < dofs.size(); ++k) s += mass[k] * f.velocity(dofs[k]), msum += mass[k];
     return dir * s / msum;
   };
-  cp.observe_fem([&](const couple::Partition& f) {
+  auto fem_gauges = [&](const couple::Partition& f) {
     r.t_fem.push_back(f.time());
     r.v_fem.push_back(band_velocity(f, band, band_m));
     if (m.embedded) r.v_exit.push_back(band_velocity(f, exit_band, exit_m));
-  });
+  };
+  // DEM gauge: the lattice column at dem_gauge_depth (DOF = particle id·2 + axis)
   std::vector<std::size_t> column;
-  for (std::uint32_t i = 0; i < ov.particles.size(); ++i)
-    if (std::abs(-ov.depth(ov.particles.x[i]) - m.dem_gauge_depth) < 1e-6 * m.d) column.push_back(2 * i + ax);
-  cp.observe_dem([&](const couple::Partition& d) {
+  {
+    const dem::Simulation& sim = model.sim();
+    const auto x = sim.positions();
+    const auto ids = sim.ids();
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      if (std::abs(-ov.depth(x[i]) - m.dem_gauge_depth) < 1e-6 * m.d)
+        column.push_back(2 * ids[i] + std::size_t(ax));
+    std::sort(column.begin(), column.end());
+  }
+  auto dem_gauge = [&](const couple::Partition& d) {
     double s = 0;
     for (std::size_t k : column) s += d.velocity(k);
     r.t_dem.push_back(d.time() - 0.5 * d.dt());  // leapfrog: the velocity of the last half step
     r.v_dem.push_back(dir * s / static_cast<double>(column.size()));
-  });
-
-  try {
-    cp.initialise();
-  } catch (const Error& e) {
-    if (e.kind() != ErrorKind::Input) throw;
-    r.status = std::string("refused: ") + e.what();
-    return r;
-  }
+  };
+  fem_gauges(fem);  // t = 0 (the model is initialised)
+  dem_gauge(dem);
+  model.coupler().observe_fem(fem_gauges);
+  model.coupler().observe_dem(dem_gauge);
+  if (series && series->pictures) watch_crossing(m, p, r, model, steps, *series);
   r.setup_s = seconds_since(t0);
   r.fem_steps = steps;
   r.dem_steps = steps * eta;
   try {
-    if (series && series->frames > 0)
-      run_with_series(m, p, r, fem, dem, cp, steps, *series);
-    else
-      cp.run(steps);
+    scene::RunObserver quiet;
+    const scene::RunResult res = run->execute(quiet);
+    r.wall_s = r.setup_s + res.step_seconds;
   } catch (const Error& e) {
     if (e.kind() != ErrorKind::Numerical) throw;
     r.status = std::string("blew up: ") + e.what();
     return r;
   }
-  r.wall_s = seconds_since(t0);
-  r.dem_hash = dem.simulation().state_hash();
-  r.fem_u.assign(fem.solver().u().data(), fem.solver().u().data() + fem.solver().u().size());
+  r.dem_hash = model.sim().state_hash();
+  r.fem_u.assign(solver.u().data(), solver.u().data() + solver.u().size());
 
   // ---- incident, reflected, transmitted ----
   const WindowMeasure inc = measure_arrival(r.t_fem, r.v_fem, p.t_inc, p.T);
@@ -874,14 +842,14 @@ WaveOptions wave_report_defaults(WaveOptions opt) {
 WaveStability wave_stability(const WaveModel& m, const WaveOptions& opt) {
   WaveStability s;
   for (int eta : opt.etas) {
-    // The partitions as run_wave builds them; the coupler's constructor makes the overlap's
-    // DOFs external, prepare() computes each partition's limit with them held.
-    couple::DemPartition dem(wave_dem(m));
-    couple::FemPartition fem(wave_fem(m, scheme_name(m, eta, opt.fem_scheme), eta * m.dt_dem));
-    couple::Coupler declare(fem, dem, wave_overlap(m, dem.dofs(), fem.dofs()), eta);
-    fem.prepare();
-    dem.prepare();
-    couple::CoupledStability cs = couple::coupled_stability(fem, dem, eta);
+    // The model as run_wave builds it; each partition's limit is taken with the overlap's
+    // external DOFs held.
+    WavePoint w;
+    w.eta = eta;
+    w.scheme = scheme_name(m, eta, opt.fem_scheme);
+    const scene::BuiltModel built = scene::build_model(wave_scene(m, opt, w), /*force=*/true);
+    couple::CoupledStability cs =
+        couple::coupled_stability(*built.fem_partition_, *built.dem_partition_, eta);
     if (cs.dt_dem > cs.dem_dt_crit) s.dem_problem = true;
     if (!cs.problems.empty()) {
       s.refused.push_back(eta);

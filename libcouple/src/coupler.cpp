@@ -214,6 +214,23 @@ void Coupler::Transfer::scatter(Partition& dst, const std::vector<double>& in) c
   for (std::size_t k = 0; k < to.size(); ++k) dst.set_external(to[k], in[2 * k], in[2 * k + 1]);
 }
 
+Coupler::Exchanged Coupler::exchanged(const Transfer& t, const Partition& src) {
+  std::vector<double> buf(2 * t.to.size());
+  t.gather(src, buf);
+  Exchanged e;
+  e.dof = t.to;
+  for (std::size_t k = 0; k < t.to.size(); ++k) e.u.push_back(buf[2 * k]), e.v.push_back(buf[2 * k + 1]);
+  return e;
+}
+
+std::vector<std::uint8_t> Coupler::roles(const Partition& side, const Transfer& into,
+                                         const Transfer& out_of) {
+  std::vector<std::uint8_t> r(side.dofs(), 0);
+  for (std::size_t d : out_of.from) r[d] = 1;
+  for (std::size_t d : into.to) r[d] = 2;
+  return r;
+}
+
 void Coupler::exchange() {
   // Jacobi exchange: both sides' values at t_n are gathered before either is prescribed
   // (set_external only touches external DOFs, which no transfer reads)

@@ -205,7 +205,7 @@ void Solver::set_prescribed(std::size_t d, double u, double v) {
   STRATA_CHECK(d < is_prescribed_.size() && is_prescribed_[d], Input,
                "FEM: DOF {} is not prescribed; declare it with prescribe() before initialise()", d);
   const std::size_t k = prescribed_index_[d];
-  prescribed_[k] = {d, u, v, time_};
+  prescribed_[k] = {d, u, v, time_, prescribed_[k].exchange};  // still exchange if marked so
   u_[static_cast<Eigen::Index>(d)] = u;
   v_[static_cast<Eigen::Index>(d)] = v;
   if (initialised_) work_u_prev_[loads_.size() + k] = u;  // a copied value is not work done

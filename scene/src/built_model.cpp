@@ -20,6 +20,14 @@ const dem::Simulation& BuiltModel::sim() const {
   STRATA_ASSERT(has_particles());
   return dem_ ? *dem_ : dem_partition_->simulation();
 }
+couple::Coupler& BuiltModel::coupler() {
+  STRATA_ASSERT(coupled());
+  return *coupler_;
+}
+const couple::Coupler& BuiltModel::coupler() const {
+  STRATA_ASSERT(coupled());
+  return *coupler_;
+}
 fem::Solver& BuiltModel::fem() {
   STRATA_ASSERT(has_fem());
   return fem_partition_->solver();

@@ -332,4 +332,46 @@ io::RenderStyle field_style(const std::string& field, const std::vector<std::str
   return style;
 }
 
+void show_overlap(const couple::Coupler& coupler, const dem::Simulation& sim, int dim, io::MeshFrame* mesh,
+                  io::PointCloud& particles) {
+  const auto d = std::size_t(dim);
+  // particles: frame index by id
+  const auto ids = sim.ids();
+  std::vector<std::size_t> index_of(ids.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) index_of[ids[i]] = i;
+  {
+    io::Array* pu = particles.find("displacement");
+    io::Array* pv = particles.find("velocity");
+    const auto u_now = sim.displacements();  // internal order, as the frame
+    const couple::Coupler::Exchanged e = coupler.exchanged_to_dem();
+    for (std::size_t k = 0; k < e.dof.size(); ++k) {
+      const std::size_t i = index_of[e.dof[k] / d], a = e.dof[k] % d;
+      particles.xyz[3 * i + a] += e.u[k] - u_now[i][a];
+      if (pu) pu->values[3 * i + a] = e.u[k];
+      if (pv) pv->values[3 * i + a] = e.v[k];
+    }
+    const auto roles = coupler.dem_roles();
+    io::Array tag{"overlap", 1, std::vector<double>(ids.size()), io::ArrayType::UInt8};
+    for (std::size_t i = 0; i < ids.size(); ++i) tag.values[i] = roles[std::size_t(ids[i]) * d];
+    particles.point_data.push_back(std::move(tag));
+  }
+  if (!mesh) return;
+  io::Array* mu = nullptr;
+  io::Array* mv = nullptr;
+  for (auto& a : mesh->point_data) {
+    if (a.name == "displacement") mu = &a;
+    if (a.name == "velocity") mv = &a;
+  }
+  const couple::Coupler::Exchanged e = coupler.exchanged_to_fem();
+  for (std::size_t k = 0; k < e.dof.size(); ++k) {
+    const std::size_t n = e.dof[k] / d, a = e.dof[k] % d;
+    if (mu) mu->values[3 * n + a] = e.u[k];
+    if (mv) mv->values[3 * n + a] = e.v[k];
+  }
+  const auto roles = coupler.fem_roles();
+  io::Array tag{"overlap", 1, std::vector<double>(mesh->nodes()), io::ArrayType::UInt8};
+  for (std::size_t n = 0; n < mesh->nodes(); ++n) tag.values[n] = roles[n * d];
+  mesh->point_data.push_back(std::move(tag));
+}
+
 }  // namespace strata::scene

@@ -75,6 +75,7 @@ struct Run::Impl {
 Run::Run(const Scene& sc, RunOptions opt) : impl_(std::make_unique<Impl>(sc, std::move(opt))) {}
 Run::~Run() = default;
 const BuiltModel& Run::model() const { return impl_->m; }
+BuiltModel& Run::model() { return impl_->m; }
 const json& Run::model_summary() const { return impl_->model; }
 const fs::path& Run::directory() const { return impl_->dir; }
 RunResult Run::execute(RunObserver& observer) { return impl_->execute(observer); }

@@ -243,11 +243,17 @@ class RunOutput {
     if (fem_on_) {
       const fem::Solver& f = m.fem();
       mesh = fem_frame(f.mesh(), f.u(), f.v(), m.time(), m.step_count());
-      fem_->add_mesh(m.time(), *mesh);
     }
+    std::optional<io::PointCloud> coupled_particles;  // the particles after the exchange
+    if (m.coupled()) {
+      coupled_particles = particle_frame(m.sim(), fields_);
+      show_overlap(m.coupler(), m.sim(), m.dim, mesh ? &*mesh : nullptr, *coupled_particles);
+    }
+    if (mesh) fem_->add_mesh(m.time(), *mesh);
     if (!particles_on_) return;
     const auto& sim = m.sim();
-    const io::PointCloud all = particle_frame(sim, fields_);
+    const io::PointCloud all =
+        coupled_particles ? std::move(*coupled_particles) : particle_frame(sim, fields_);
     const io::PointCloud pc = select_particles(sim, all, selection_);
     const io::LineSet bonds = bond_frame(sim, selection_);
     particles_->add_particles(sim.time(), pc);

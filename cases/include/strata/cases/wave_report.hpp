@@ -2,9 +2,13 @@
 /// `strata report wave`: a 2D FEM–DEM coupled model built from a geometry file.
 ///
 /// Two physical surfaces sharing a straight side (default examples/04_coupled_wave/wave.geo:
-/// an FEM block and a particle block side by side). `preprocess::build_overlap` fills the
-/// particle block (and the one-layer overlap) with a hexagonal lattice of diameter d and
-/// meshes the FEM block with gmsh so that FEM nodes coincide with the overlap particles.
+/// an FEM block and a particle block side by side). Every run of the sweep is a scene (a
+/// particle region and FEM region(s) from the geometry file, groups, boundaries and the
+/// load below), built and stepped by the scene library's one run path (scene::Run): the
+/// lattice fills the particle block and the one-layer overlap, gmsh meshes the FEM block so
+/// that FEM nodes coincide with the overlap particles. What is special to this case is
+/// analysis: the geometry measured once (`preprocess::build_overlap`: interfaces, gauge and
+/// roller lines), the gauges read through the coupler's observers, the pulse windows.
 ///
 ///  - DEM: libdem `Simulation`, the bond stiffnesses of Liu, Pollard & Shi 2013 (Kn = 6.587e10
 ///    N/m, Ks = 2.371e10 N/m, ρ = 2650 kg/m² per unit thickness), unbreakable bonds, no contact
@@ -37,10 +41,14 @@
 ///    the pulse in the strip (DEM gauge), T the pulse after both interfaces (a gauge band in
 ///    the exit block, a third of the way in). Analytical: R = R2 = 0, T1 = T = 1.
 ///  - Series (`frames` > 0): one extra run (serial, η = series_eta, the longest pulse) writes
-///    DIR/series/particles.pvd and fem.pvd with the same times, the state at the start of a
-///    system step after the overlap exchange (external sites hold the copied values), and
-///    PNGs of the pulse crossing the overlap (FEM mesh and particles coloured by the
-///    velocity along the wave, one colour range).
+///    its scene outputs into DIR/series: particles.pvd, bonds.pvd and fem.pvd with the same
+///    times (`frames` evenly spaced system steps, t = 0 and the end included; a coupled
+///    frame is the state after the overlap exchange, so coincident sites hold the same
+///    values, scene::show_overlap), probes.csv and summary.json, and PNGs of the pulse
+///    crossing the overlap (FEM mesh and particles coloured by the velocity along the wave,
+///    one colour range).
+///  - Stability: a run's own energy check (particles and FEM together against the work of
+///    the load) stops an exchange that pumps energy in; the point then reads "blew up".
 #include <strata/couple/coupler.hpp>
 #include <strata/fem/solver.hpp>
 #include <strata/preprocess/overlap.hpp>
@@ -152,7 +160,7 @@ struct WaveRun {
   int eta = 1;
   couple::Execution mode = couple::Execution::Serial;
   std::string fem_scheme;     ///< integrator used
-  std::string status = "ok";  ///< "ok", or why the coupler refused the point
+  std::string status = "ok";  ///< "ok", "refused: why", "blew up: ..." or "unstable: ..."
   double dt_dem = 0, dt_fem = 0, duration = 0;
   std::int64_t fem_steps = 0, dem_steps = 0;
   double v0 = 0;        ///< analytical incident peak velocity (m/s)
@@ -166,8 +174,8 @@ struct WaveRun {
   /// (peak, energy) and the pulse after both interfaces at the exit gauge (peak, energy).
   double r2_peak = std::nan(""), r2_energy = std::nan("");
   double exit_peak = std::nan(""), exit_energy = std::nan("");
-  double setup_s = 0;  ///< building both partitions, coupler set-up and stability checks (s)
-  double wall_s = 0;   ///< set-up + coupled run, fastest of `repeats` (s)
+  double setup_s = 0;  ///< building the model from the geometry (meshing included) and its checks (s)
+  double wall_s = 0;   ///< set-up + the time loop (scene::RunResult::step_seconds), fastest of `repeats` (s)
   std::vector<double> t_fem, v_fem, t_dem, v_dem;       ///< gauge signals
   std::vector<double> v_exit;                           ///< exit gauge (embedded), at t_fem
   double t_inc = 0, t_ref = 0, t_tra = 0, pulse_T = 0;  ///< arrival times, pulse duration (s)
@@ -176,10 +184,12 @@ struct WaveRun {
   std::vector<double> fem_u;                            ///< FEM displacement at the end
 };
 
-/// Runs one point. `scheme` "auto" picks central difference when η·dt_DEM is below the FEM
-/// explicit limit and implicit Newmark otherwise. A point the coupler refuses (an explicit
-/// FEM above its limit) comes back with status "refused: ...".
-/// With `series`, also writes its VTK series and pictures (the wall time then includes them).
+/// Runs one point through scene::Run. `scheme` "auto" picks central difference when η·dt_DEM
+/// is below the FEM explicit limit and implicit Newmark otherwise. A point the coupler
+/// refuses (an explicit FEM above its limit) comes back with status "refused: ...", one the
+/// run stops as a blow-up with "blew up: ...". Its files go to a scratch folder removed
+/// afterwards, or with `series` to series->dir, with its pictures (the wall time then
+/// includes the pictures).
 WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, int eta, couple::Execution mode,
                  const std::string& scheme, WaveSeries* series = nullptr);
 

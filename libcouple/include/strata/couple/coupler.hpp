@@ -118,6 +118,20 @@ class Coupler {
   int eta() const { return eta_; }
   std::int64_t system_steps_done() const { return done_; }
 
+  /// What the next exchange prescribes on one side's external DOFs, from the other side's
+  /// state now (the same arithmetic as the exchange, so the same bits): for each external
+  /// DOF, its displacement and velocity.
+  struct Exchanged {
+    std::vector<std::size_t> dof;
+    std::vector<double> u, v;
+  };
+  Exchanged exchanged_to_dem() const { return exchanged(to_dem_, fem_); }
+  Exchanged exchanged_to_fem() const { return exchanged(to_fem_, dem_); }
+  /// The role of every DOF of the FEM side (or the DEM side) in the overlap: 0 internal,
+  /// 1 boundary (a source of the other side's externals), 2 external.
+  std::vector<std::uint8_t> fem_roles() const { return roles(fem_, to_fem_, to_dem_); }
+  std::vector<std::uint8_t> dem_roles() const { return roles(dem_, to_dem_, to_fem_); }
+
  private:
   /// The links of one direction in compressed rows: external DOF to[k] takes
   /// Σ weight[j]·value(from[j]) over j in [first[k], first[k+1]); copy[k] when that is one
@@ -131,6 +145,8 @@ class Coupler {
     /// Prescribes gathered values on the target side.
     void scatter(Partition& dst, const std::vector<double>& in) const;
   };
+  static Exchanged exchanged(const Transfer& t, const Partition& src);
+  static std::vector<std::uint8_t> roles(const Partition& side, const Transfer& into, const Transfer& out_of);
   static Transfer compile(const std::vector<Link>& links, const Partition& src, const Partition& dst,
                           const char* what);
   void exchange();

@@ -1,5 +1,6 @@
 #pragma once
 /// Converts the DEM and FEM states into io's neutral frames, with the selections of [output].
+#include <strata/couple/coupler.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/fem/mesh.hpp>
 #include <strata/io/frame.hpp>
@@ -61,6 +62,15 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel);
 /// A 1D mesh is drawn as 2D.
 io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const Eigen::VectorXd& v,
                         double time, std::int64_t step);
+
+/// A frame of a coupled model shows its state after the overlap exchange: the external sites
+/// of each side hold the values the coupler copies to them from the other side (the
+/// displacement and velocity arrays, and the external particles' positions), so that the two
+/// parts agree where their sites coincide; and both frames get the point array `overlap`
+/// (0 internal, 1 boundary: a source of the other side's externals, 2 external). `mesh` may
+/// be null (FEM frames off); `particles` is a particle_frame of `sim` (all particles).
+void show_overlap(const couple::Coupler& coupler, const dem::Simulation& sim, int dim, io::MeshFrame* mesh,
+                  io::PointCloud& particles);
 
 /// The walls where they are now, as a mesh ParaView and the pictures show: each wall a
 /// line (2D) or a rectangle of two triangles (3D) in its plane, covering the particles' box

@@ -171,6 +171,10 @@ struct BuiltModel {
   /// The particles (has_particles()).
   dem::Simulation& sim();
   const dem::Simulation& sim() const;
+  /// The coupler of particles and FEM (coupled()): its observers see every FEM step and
+  /// every DEM step.
+  couple::Coupler& coupler();
+  const couple::Coupler& coupler() const;
   /// The FEM solver (has_fem()).
   fem::Solver& fem();
   const fem::Solver& fem() const;

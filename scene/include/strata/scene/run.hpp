@@ -92,6 +92,10 @@ class Run {
   Run& operator=(const Run&) = delete;
 
   const BuiltModel& model() const;
+  /// The model, for an analysis that watches it while it runs (e.g. gauges read every step
+  /// through the coupler's observers, BuiltModel::coupler()). Changing its state makes the
+  /// run's outputs wrong.
+  BuiltModel& model();
   /// The model part of summary.json (model_json).
   const nlohmann::json& model_summary() const;
   /// The output folder this run writes into.
