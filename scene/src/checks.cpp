@@ -182,6 +182,20 @@ class KeyChecks {
                            "needs both (or neither, for the lattice's own)",
                            m.str("name"), given, other));
       }
+    // Kn and Ks: what the particles of a material are made of, and the continuum of an FEM
+    // region whose material gives no youngs_modulus of its own. A material of FEM regions
+    // with E and ν needs neither.
+    const TableSpec& material_spec = *find_table("material");
+    for (const Table& m : scene.tables("material")) {
+      bool lattice = false;
+      for (const Table& r : scene.tables("region"))
+        if (r.str("material") == m.str("name"))
+          lattice = lattice || r.str("kind") == "particles" || !m.given("youngs_modulus");
+      for (const char* key : {"kn", "ks"})
+        if (lattice && !m.given(key))
+          report(m.where(), fmt::format("{} is missing required key '{}' ({})", entry_title(material_spec, m),
+                                        key, first_sentence(find_key(material_spec, key)->doc)));
+    }
     const TableSpec& region_spec = *find_table("region");
     for (const Table& r : scene.tables("region")) {
       check_reference(r, "material", "[[material]]", materials);

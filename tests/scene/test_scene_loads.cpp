@@ -30,8 +30,7 @@ fs::path fresh_dir(const std::string& name) {
 // and held; the right side's mean displacement is a gauge.
 std::string bar_scene(const fs::path& geo, const std::string& load_extra = "") {
   return "[scene]\ndimension = 2\n\n"
-         "[[material]]\nname = \"rock\"\ndensity = 2650.0\nyoungs_modulus = 5e10\npoisson_ratio = 0.25\n"
-         "kn = 1e10\nks = 1e9\n\n"
+         "[[material]]\nname = \"rock\"\ndensity = 2650.0\nyoungs_modulus = 5e10\npoisson_ratio = 0.25\n\n"
          "[[region]]\nname = \"bar\"\nkind = \"fem\"\nmaterial = \"rock\"\nshape = \"file\"\nfile = \"" +
          geo.string() +
          "\"\nphysical = \"bar\"\nmesh_size = 0.005\n\n"
@@ -110,7 +109,7 @@ TEST(SceneLoads, BoundaryTractionNeedsFemNodesOnTheBoundary) {
   const std::string from = "box_min = [0.099999, -1]\nbox_max = [1, 1]";
   text.replace(text.find(from), from.size(), "box_min = [0.04, 0.004]\nbox_max = [0.06, 0.016]");
   const std::string e = error_of(text);
-  EXPECT_NE(e.find("scene.toml:56:7: group 'right': no boundary edge of the FEM mesh has all its corners in "
+  EXPECT_NE(e.find("scene.toml:54:7: group 'right': no boundary edge of the FEM mesh has all its corners in "
                    "the group"),
             std::string::npos)
       << e;
@@ -130,4 +129,32 @@ TEST(SceneLoads, BoundaryTractionIsForFemNodesOnly) {
       error_of(text),
       "scene.toml:26:7: group 'top' holds particles: per = \"boundary\" spreads a traction over the boundary "
       "of FEM nodes (allowed for particles: \"particle\" or \"group\")");
+}
+
+// An FEM region whose material gives E and ν needs no bond stiffnesses (the bar scenes above
+// have none); particles do, and so does an FEM region that takes the lattice's continuum.
+TEST(SceneLoads, BondStiffnessesAreNeededWhereALatticeIs) {
+  const std::string particles =
+      "[scene]\ndimension = 2\n\n"
+      "[[material]]\nname = \"rock\"\ndensity = 2650.0\nyoungs_modulus = 5e10\npoisson_ratio = 0.25\n\n"
+      "[[region]]\nname = \"block\"\nmaterial = \"rock\"\nshape = \"box\"\norigin = [0, 0]\nsize = [0.01, "
+      "0.01]\n"
+      "diameter = 0.001\n\n[solver]\nsteps = 10\n";
+  auto error_of_parse = [](const std::string& text) -> std::string {
+    try {
+      strata::scene::parse(text, "scene.toml", {});
+    } catch (const strata::Error& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  EXPECT_NE(error_of_parse(particles).find("scene.toml:4:1: [[material]] 'rock' is missing required key 'kn' "
+                                           "(Kn: normal stiffness"),
+            std::string::npos)
+      << error_of_parse(particles);
+  std::string with_kn = particles;
+  with_kn.replace(with_kn.find("youngs_modulus"), 0, "kn = 1e10\n");
+  EXPECT_NE(error_of_parse(with_kn).find("scene.toml:4:1: [[material]] 'rock' is missing required key 'ks'"),
+            std::string::npos)
+      << error_of_parse(with_kn);
 }

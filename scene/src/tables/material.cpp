@@ -38,15 +38,15 @@ TableSpec material_spec() {
               .doc("Mass density: per unit thickness in 2D (a disk of diameter d has mass "
                    "ρ·(√3/2)·d², the area per disk of the hexagonal lattice), per volume in 3D."),
           K("kn", Real, "N/m")
-              .required()
               .gt(0)
               .doc("Kn: normal stiffness of a bond or contact, Fn = Kn·Un with Un the overlap, "
-                   "compression positive (Liu, Pollard & Shi 2013)."),
+                   "compression positive (Liu, Pollard & Shi 2013). Required for a material of particle "
+                   "regions, and of FEM regions without youngs_modulus (their continuum is the "
+                   "lattice's)."),
           K("ks", Real, "N/m")
-              .required()
               .ge(0)
               .doc("Ks: shear stiffness, Fs = Ks·Us with Us the shear displacement accumulated since "
-                   "the contact formed (Liu, Pollard & Shi 2013)."),
+                   "the contact formed (Liu, Pollard & Shi 2013). Required with kn."),
           K("friction", Real)
               .ge(0)
               .def("0.0")
