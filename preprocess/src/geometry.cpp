@@ -407,18 +407,8 @@ void refuse_huge_mesh(const std::string& what, int dim) {
   const double h = length / double(line_tags.size());
   double lo[3], hi[3];
   gmsh::model::getBoundingBox(-1, -1, lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]);
-  const double box =
-      dim == 2 ? (hi[0] - lo[0]) * (hi[1] - lo[1]) : (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
-  const double elements =
-      dim == 2 ? box / (std::sqrt(3.0) / 4 * h * h) : box / (std::sqrt(2.0) / 12 * h * h * h);
-  const double bytes = elements * (dim == 2 ? 500.0 : 1000.0), memory = double(sys::physical_memory_bytes());
-  STRATA_CHECK(
-      !(h > 0) || memory <= 0 || bytes <= memory / 2, Input,
-      "{}: gmsh would make about {:.3g} {} (elements about {:.3g} m long along the curves of a geometry "
-      "{:.3g} m across): about {:.3g} GB, more than half this machine's {:.3g} GB of memory; allowed: "
-      "larger characteristic lengths (lc) in the file, or a mesh_size on the region",
-      what, elements, dim == 2 ? "triangles" : "tetrahedra", h,
-      std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}), bytes / 1e9, memory / 1e9);
+  detail::refuse_huge_mesh(what, dim, lo, hi, h,
+                           "larger characteristic lengths (lc) in the file, or a mesh_size on the region");
 }
 
 Geometry read_gmsh(const fs::path& file, const GeometryOptions& opt) {

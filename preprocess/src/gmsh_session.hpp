@@ -73,4 +73,11 @@ namespace strata::preprocess::detail {
 Geometry extract_gmsh_model(const std::string& what, int dim);
 #endif
 
+/// Refuses (Input) a mesh of elements about `h` long filling the box [lo, hi] (dim 2 or 3)
+/// that would need more than half this machine's memory: box area / (√3/4·h²) triangles or
+/// box volume / (√2/12·h³) tetrahedra, about 500 bytes per triangle and 1000 per tetrahedron
+/// in gmsh and strata. `allowed` says how to make the elements larger.
+void refuse_huge_mesh(const std::string& what, int dim, const double lo[3], const double hi[3], double h,
+                      const std::string& allowed);
+
 }  // namespace strata::preprocess::detail

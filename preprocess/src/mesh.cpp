@@ -2,6 +2,7 @@
 #include "strata/preprocess/mesh.hpp"
 
 #include <strata/core/error.hpp>
+#include <strata/core/memory.hpp>
 #include <strata/preprocess/geometry.hpp>
 
 #include <algorithm>
@@ -81,6 +82,23 @@ SimplexMesh tagged_mesh(const Geometry& g, const std::string& physical) {
 }
 }  // namespace
 
+namespace detail {
+void refuse_huge_mesh(const std::string& what, int dim, const double lo[3], const double hi[3], double h,
+                      const std::string& allowed) {
+  const double box =
+      dim == 2 ? (hi[0] - lo[0]) * (hi[1] - lo[1]) : (hi[0] - lo[0]) * (hi[1] - lo[1]) * (hi[2] - lo[2]);
+  const double elements =
+      dim == 2 ? box / (std::sqrt(3.0) / 4 * h * h) : box / (std::sqrt(2.0) / 12 * h * h * h);
+  const double bytes = elements * (dim == 2 ? 500.0 : 1000.0), memory = double(sys::physical_memory_bytes());
+  STRATA_CHECK(!(h > 0) || memory <= 0 || bytes <= memory / 2, Input,
+               "{}: gmsh would make about {:.3g} {} (elements about {:.3g} m long, a geometry {:.3g} m "
+               "across): about {:.3g} GB, more than half this machine's {:.3g} GB of memory; allowed: {}",
+               what, elements, dim == 2 ? "triangles" : "tetrahedra", h,
+               std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]}), bytes / 1e9, memory / 1e9, allowed);
+}
+
+}  // namespace detail
+
 SimplexMesh mesh_fem_region(const std::filesystem::path& file, const std::string& physical, int dim,
                             const FemMeshOptions& opt) {
   STRATA_CHECK(opt.order == 1, Input, "FEM mesh of {}: element order {} is not available; allowed: 1",
@@ -107,6 +125,11 @@ SimplexMesh mesh_fem_shape(const Shape& s, double size) {
   for (int a = 0; a < s.dim; ++a) extent = std::max(extent, b.hi[a] - b.lo[a]);
   if (size <= 0) size = extent / 10;
   STRATA_CHECK(size > 0, Input, "FEM mesh of a shape: element size {} must be > 0", size);
+  {
+    const double lo[3] = {b.lo[0], b.lo[1], b.lo[2]}, hi[3] = {b.hi[0], b.hi[1], b.hi[2]};
+    detail::refuse_huge_mesh(fmt::format("FEM mesh of a primitive shape with elements of {} m", size), s.dim,
+                             lo, hi, size, "a larger mesh_size (0: a tenth of the shape's extent)");
+  }
   detail::GmshSession gs;
   return gs.run("FEM mesh of a primitive shape", [&] {
     namespace occ = gmsh::model::occ;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <strata/config.hpp>
 #include <strata/core/parallel.hpp>
+#include <strata/io/series.hpp>
+#include <strata/io/vtk.hpp>
 #include <strata/scene/run.hpp>
 #include <strata/scene/scene.hpp>
 
@@ -69,6 +71,24 @@ TEST(CoupledRun, TunnelSceneWritesParticlesAndFemIntoOneSeries) {
   for (std::size_t at = text.find("<DataSet"); at != std::string::npos; at = text.find("<DataSet", at + 1))
     ++frames;
   EXPECT_EQ(frames, 3u);
+  // Both parts carry the overlap roles (0 internal, 1 boundary, 2 external): as many external
+  // particles and nodes as the model has, and sources of each.
+  const auto pe = strata::io::read_pvd(dir / "particles.pvd"), fe = strata::io::read_pvd(dir / "fem.pvd");
+  ASSERT_EQ(pe.size(), 3u);
+  ASSERT_EQ(fe.size(), 3u);
+  const strata::io::PointCloud p = strata::io::read_vtp(dir / pe.back().file).points;
+  const strata::io::MeshFrame mesh = strata::io::read_vtu(dir / fe.back().file);
+  const strata::io::Array* ptag = p.find("overlap");
+  const strata::io::Array* ntag = mesh.find_point("overlap");
+  ASSERT_NE(ptag, nullptr);
+  ASSERT_NE(ntag, nullptr);
+  std::size_t count[2][3] = {};
+  for (std::size_t i = 0; i < p.size(); ++i) ++count[0][std::size_t(ptag->at(i))];
+  for (std::size_t n = 0; n < mesh.nodes(); ++n) ++count[1][std::size_t(ntag->at(n))];
+  EXPECT_EQ(count[0][2], j["overlap_external_particles"].get<std::size_t>());
+  EXPECT_EQ(count[1][2], j["overlap_external_nodes"].get<std::size_t>());
+  EXPECT_GT(count[0][1], 0u);
+  EXPECT_GT(count[1][1], 0u);
 }
 
 TEST(CoupledRun, SerialAndParallelCouplingGiveTheSameBits) {

@@ -1,6 +1,7 @@
-// Loads on FEM nodes through a scene: a traction on a boundary (per = "boundary") applied with
-// a smooth ramp stretches a bar as the uniaxial-stress solution says, and the per keys that do
-// not fit the group are refused at their line.
+// FEM scenes: a traction on a boundary (per = "boundary") applied with a smooth ramp stretches a
+// bar as the uniaxial-stress solution says; the per keys that do not fit the group, a lattice's
+// stiffnesses missing where a lattice is, and a mesh too fine for the machine are refused at
+// their line.
 #include <gtest/gtest.h>
 #include <strata/config.hpp>
 #include <strata/core/error.hpp>
@@ -157,4 +158,25 @@ TEST(SceneLoads, BondStiffnessesAreNeededWhereALatticeIs) {
   EXPECT_NE(error_of_parse(with_kn).find("scene.toml:4:1: [[material]] 'rock' is missing required key 'ks'"),
             std::string::npos)
       << error_of_parse(with_kn);
+}
+
+// An FEM region of a primitive shape with elements far too small for the machine is refused
+// at its mesh_size, with the estimate, before gmsh starts (a 1 m square of 1 µm triangles:
+// some 2e12 of them).
+TEST(SceneFemMesh, ATinyMeshSizeIsRefusedBeforeMeshing) {
+  if (!STRATA_WITH_GMSH) GTEST_SKIP() << "FEM regions are meshed by gmsh: needs STRATA_WITH_GMSH";
+  const std::string text =
+      "[scene]\ndimension = 2\n\n"
+      "[[material]]\nname = \"rock\"\ndensity = 2650.0\nyoungs_modulus = 5e10\npoisson_ratio = 0.25\n\n"
+      "[[region]]\nname = \"slab\"\nkind = \"fem\"\nmaterial = \"rock\"\nshape = \"box\"\norigin = [0, 0]\n"
+      "size = [1.0, 1.0]\nmesh_size = 1e-6\n\n"
+      "[solver]\nsteps = 10\n\n[output]\nframes = 0\nrender = false\n";
+  const std::string e = error_of(text);
+  EXPECT_EQ(
+      e.rfind("scene.toml:17:13: FEM mesh of a primitive shape with elements of 1e-06 m: gmsh would make "
+              "about 2.31e+12 triangles",
+              0),
+      0u)
+      << e;
+  EXPECT_NE(e.find("allowed: a larger mesh_size"), std::string::npos) << e;
 }
