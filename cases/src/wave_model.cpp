@@ -501,9 +501,9 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   const couple::Partition& fem = *model.fem_partition_;
   const couple::Partition& dem = *model.dem_partition_;
   // An explicit FEM above its limit is refused as the coupler would refuse it (the scene
-  // allows it only so that an unstable exchange can be measured).
-  const couple::CoupledStability cs =
-      couple::coupled_stability(*model.fem_partition_, *model.dem_partition_, eta);
+  // allows it only so that an unstable exchange can be measured): the coupler's own check,
+  // made when the model was built.
+  const couple::CoupledStability& cs = model.coupler().stability();
   if (!cs.problems.empty()) {
     r.status = fmt::format("refused: {}", fmt::join(cs.problems, "; "));
     return r;
@@ -625,8 +625,7 @@ WaveStability wave_stability(const WaveModel& m, const WaveOptions& opt) {
     w.eta = eta;
     w.scheme = scheme_name(m, eta, opt.fem_scheme);
     const scene::BuiltModel built = scene::build_model(wave_scene(m, opt, w), /*force=*/true);
-    couple::CoupledStability cs =
-        couple::coupled_stability(*built.fem_partition_, *built.dem_partition_, eta);
+    couple::CoupledStability cs = built.coupler().stability();  // checked when it was built
     if (cs.dt_dem > cs.dem_dt_crit) s.dem_problem = true;
     if (!cs.problems.empty()) {
       s.refused.push_back(eta);

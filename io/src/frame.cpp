@@ -29,6 +29,7 @@ const Array* LineSet::find(std::string_view name) const { return find_in(cell_da
 Array* LineSet::find(std::string_view name) { return find_in(cell_data, name); }
 
 const Array* MeshFrame::find_point(std::string_view name) const { return find_in(point_data, name); }
+Array* MeshFrame::find_point(std::string_view name) { return find_in(point_data, name); }
 const Array* MeshFrame::find_cell(std::string_view name) const { return find_in(cell_data, name); }
 
 void MeshFrame::add_cell(CellType type, std::initializer_list<std::int64_t> nodes) {

@@ -333,35 +333,30 @@ io::RenderStyle field_style(const std::string& field, const std::vector<std::str
 }
 
 void show_overlap(const couple::Coupler& coupler, const dem::Simulation& sim, int dim, io::MeshFrame* mesh,
-                  io::PointCloud& particles) {
+                  io::PointCloud* particles) {
   const auto d = std::size_t(dim);
-  // particles: frame index by id
-  const auto ids = sim.ids();
-  std::vector<std::size_t> index_of(ids.size());
-  for (std::size_t i = 0; i < ids.size(); ++i) index_of[ids[i]] = i;
-  {
-    io::Array* pu = particles.find("displacement");
-    io::Array* pv = particles.find("velocity");
+  if (particles) {
+    const auto ids = sim.ids();  // frame index -> particle id
+    std::vector<std::size_t> index_of(ids.size());
+    for (std::size_t i = 0; i < ids.size(); ++i) index_of[ids[i]] = i;
+    io::Array* pu = particles->find("displacement");
+    io::Array* pv = particles->find("velocity");
     const auto u_now = sim.displacements();  // internal order, as the frame
     const couple::Coupler::Exchanged e = coupler.exchanged_to_dem();
     for (std::size_t k = 0; k < e.dof.size(); ++k) {
       const std::size_t i = index_of[e.dof[k] / d], a = e.dof[k] % d;
-      particles.xyz[3 * i + a] += e.u[k] - u_now[i][a];
+      particles->xyz[3 * i + a] += e.u[k] - u_now[i][a];
       if (pu) pu->values[3 * i + a] = e.u[k];
       if (pv) pv->values[3 * i + a] = e.v[k];
     }
     const auto roles = coupler.dem_roles();
     io::Array tag{"overlap", 1, std::vector<double>(ids.size()), io::ArrayType::UInt8};
     for (std::size_t i = 0; i < ids.size(); ++i) tag.values[i] = roles[std::size_t(ids[i]) * d];
-    particles.point_data.push_back(std::move(tag));
+    particles->point_data.push_back(std::move(tag));
   }
   if (!mesh) return;
-  io::Array* mu = nullptr;
-  io::Array* mv = nullptr;
-  for (auto& a : mesh->point_data) {
-    if (a.name == "displacement") mu = &a;
-    if (a.name == "velocity") mv = &a;
-  }
+  io::Array* mu = mesh->find_point("displacement");
+  io::Array* mv = mesh->find_point("velocity");
   const couple::Coupler::Exchanged e = coupler.exchanged_to_fem();
   for (std::size_t k = 0; k < e.dof.size(); ++k) {
     const std::size_t n = e.dof[k] / d, a = e.dof[k] % d;

@@ -244,16 +244,14 @@ class RunOutput {
       const fem::Solver& f = m.fem();
       mesh = fem_frame(f.mesh(), f.u(), f.v(), m.time(), m.step_count());
     }
-    std::optional<io::PointCloud> coupled_particles;  // the particles after the exchange
-    if (m.coupled()) {
-      coupled_particles = particle_frame(m.sim(), fields_);
-      show_overlap(m.coupler(), m.sim(), m.dim, mesh ? &*mesh : nullptr, *coupled_particles);
-    }
+    std::optional<io::PointCloud> particles;
+    if (particles_on_) particles = particle_frame(m.sim(), fields_);
+    if (m.coupled())  // the state after the overlap exchange
+      show_overlap(m.coupler(), m.sim(), m.dim, mesh ? &*mesh : nullptr, particles ? &*particles : nullptr);
     if (mesh) fem_->add_mesh(m.time(), *mesh);
     if (!particles_on_) return;
     const auto& sim = m.sim();
-    const io::PointCloud all =
-        coupled_particles ? std::move(*coupled_particles) : particle_frame(sim, fields_);
+    const io::PointCloud& all = *particles;
     const io::PointCloud pc = select_particles(sim, all, selection_);
     const io::LineSet bonds = bond_frame(sim, selection_);
     particles_->add_particles(sim.time(), pc);

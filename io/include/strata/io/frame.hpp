@@ -109,6 +109,7 @@ struct MeshFrame {
   void add_cell(CellType type, std::initializer_list<std::int64_t> nodes);
   /// The point array called `name`, or nullptr.
   const Array* find_point(std::string_view name) const;
+  Array* find_point(std::string_view name);
   /// The cell array called `name`, or nullptr.
   const Array* find_cell(std::string_view name) const;
 };

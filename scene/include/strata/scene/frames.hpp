@@ -67,10 +67,11 @@ io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const E
 /// of each side hold the values the coupler copies to them from the other side (the
 /// displacement and velocity arrays, and the external particles' positions), so that the two
 /// parts agree where their sites coincide; and both frames get the point array `overlap`
-/// (0 internal, 1 boundary: a source of the other side's externals, 2 external). `mesh` may
-/// be null (FEM frames off); `particles` is a particle_frame of `sim` (all particles).
+/// (0 internal, 1 boundary: a source of the other side's externals, 2 external). `mesh` is a
+/// frame of the FEM, `particles` a particle_frame of `sim` (all particles); either may be null
+/// (its frames off).
 void show_overlap(const couple::Coupler& coupler, const dem::Simulation& sim, int dim, io::MeshFrame* mesh,
-                  io::PointCloud& particles);
+                  io::PointCloud* particles);
 
 /// The walls where they are now, as a mesh ParaView and the pictures show: each wall a
 /// line (2D) or a rectangle of two triangles (3D) in its plane, covering the particles' box
