@@ -197,7 +197,7 @@ int main(int argc, char** argv) {
           ->check(kPositive);
   report->add_option("--modes", rep.modes, "serial, parallel or both")
       ->check(CLI::IsMember({"serial", "parallel", "both"}));
-  report->add_option("--dt-dem", rep.dt_dem, "DEM step (s); default 1e-4 (chain6), 5e-5 (metamaterial)")
+  report->add_option("--dt-dem", rep.dt_dem, "DEM step (s); default 1e-4 (chain6), 4e-6 (metamaterial)")
       ->check(kNonNegative);
   report
       ->add_option("--duration", rep.duration,
@@ -213,6 +213,8 @@ int main(int argc, char** argv) {
   report->add_option("--repeats", rep.repeats, "Runs per point; the fastest is reported")->check(kPositive);
   report->add_flag("--check", rep.check_only, "Only check the time step (exit 2 when unstable)");
   report->add_flag("--no-plot", rep.no_plot, "Do not write the PNG plot");
+  report->add_flag("--run-unstable", rep.run_unstable,
+                   "chains: run the eta points above a limit anyway, to see them blow up");
   cases::WaveOptions wave;  // `report wave` only
   report
       ->add_option("--geometry", wave.geometry,

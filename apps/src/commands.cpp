@@ -92,6 +92,13 @@ void print_model(const json& j) {
                 j["fem_integrator"].get<std::string>().c_str(), j["fem_dt_s"].get<double>(),
                 j["fem_explicit_dt_crit_s"].get<double>());
   }
+  if (j.contains("network"))
+    std::printf(
+        "network      %zu nodes, %zu springs, %zu wall springs, %zu loads; FEM part %zu nodes, "
+        "particle part %zu nodes\n",
+        j["network"]["nodes"].get<std::size_t>(), j["network"]["springs"].get<std::size_t>(),
+        j["network"]["walls"].get<std::size_t>(), j["network"]["loads"].get<std::size_t>(),
+        j["network"]["fem_nodes"].get<std::size_t>(), j["network"]["particle_nodes"].get<std::size_t>());
   if (j.contains("eta"))
     std::printf("coupling     eta = %d (%s), overlap: %zu external particles, %zu external FEM nodes\n",
                 j["eta"].get<int>(), j["coupling"].get<std::string>().c_str(),

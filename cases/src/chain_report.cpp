@@ -6,9 +6,9 @@
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
+#include <strata/cases/chain_sweep.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
-#include <strata/couple/chains.hpp>
 #include <strata/io/csv.hpp>
 #include <strata/io/plot.hpp>
 
@@ -51,7 +51,7 @@ Plan resolve(const ReportOptions& opt) {
   Plan p;
   p.opt = opt;
   p.meta = opt.case_name == "metamaterial";
-  p.dt = opt.dt_dem > 0 ? opt.dt_dem : p.meta ? 5e-5 : 1e-4;
+  p.dt = opt.dt_dem > 0 ? opt.dt_dem : p.meta ? 4e-6 : 1e-4;
   p.duration = opt.duration > 0 ? opt.duration : p.meta ? 0.075 : 20.0;
   const std::string scheme = opt.fem_scheme.empty() || opt.fem_scheme == "auto"
                                  ? (p.meta ? "implicit-newmark" : "explicit-newmark")
@@ -104,9 +104,19 @@ Stability stability(const Plan& p) {
     const bool dem_bad = cs.dt_dem > cs.dem_dt_crit;
     if (dem_bad && s.dt_problem.empty())
       s.dt_problem = fmt::format("{}; use dt_DEM <= {:.3g} s", cs.problems.front(), cs.dem_dt_crit);
+    // what the network scene refuses besides the coupler's check: the exchange interval
+    // η·dt_DEM above the DEM partition's limit (scene/src/network_model.cpp)
+    const bool exchange_bad = !dem_bad && eta * p.dt > cs.dem_dt_crit;
     if (cs.problems.size() > (dem_bad ? 1u : 0u)) {
       s.refused.push_back(eta);
       s.eta_problems.push_back(fmt::format("eta = {}: {}", eta, cs.problems.back()));
+    } else if (exchange_bad) {
+      s.refused.push_back(eta);
+      s.eta_problems.push_back(
+          fmt::format("eta = {}: the exchange interval eta x dt_DEM = {:.4g} s exceeds the DEM partition's "
+                      "limit {:.4g} s "
+                      "(the copied overlap drives it like a step of that length; the run grows unstable)",
+                      eta, eta * p.dt, cs.dem_dt_crit));
     }
     s.per_eta.push_back(std::move(cs));
   }
@@ -127,8 +137,10 @@ std::string stability_text(const Plan& p, const Stability& s) {
     const bool refused = std::find(s.refused.begin(), s.refused.end(), c.eta) != s.refused.end();
     const bool above = c.dt_fem > c.fem_explicit_dt_crit;
     out += fmt::format(
-        "  eta = {:>2}: dt_FEM = {:.4g} s, FEM explicit limit {:.4g} s (ratio {:.3g}), {} -> {}\n", c.eta,
-        c.dt_fem, c.fem_explicit_dt_crit, c.dt_fem / c.fem_explicit_dt_crit, c.fem_integrator,
+        "  eta = {:>2}: dt_FEM = {:.4g} s, FEM explicit limit {:.4g} s (ratio {:.3g}), {}; exchange interval "
+        "{:.3g} x the DEM limit -> {}\n",
+        c.eta, c.dt_fem, c.fem_explicit_dt_crit, c.dt_fem / c.fem_explicit_dt_crit, c.fem_integrator,
+        c.dt_fem / c.dem_dt_crit,
         refused ? "REFUSED"
         : above ? "ok (implicit; an explicit FEM step would be unstable here)"
                 : "ok");
@@ -172,19 +184,19 @@ struct Refuse {
 /// plan asks for that (chain6 always: its sweep cannot show refused points).
 void refuse_unstable(const Plan& p, const Stability& s, const Refuse& refuse) {
   if (!s.dt_problem.empty()) refuse.at(&scene::CoupledTable::dt_dem, s.dt_problem);
-  if (s.eta_problems.empty() || !(p.opt.refuse_unstable_eta || !p.meta)) return;
+  if (s.eta_problems.empty() || p.opt.run_unstable || !(p.opt.refuse_unstable_eta || !p.meta)) return;
   std::string why;
   for (const auto& e : s.eta_problems) why += "\n  " + e;
   refuse.at(&scene::CoupledTable::eta,
-            fmt::format("eta = {} cannot run with the FEM integrator {}: use fem_scheme = "
-                        "\"implicit-newmark\" or lower eta{}",
-                        fmt::join(s.refused, ", "), fem::to_string(p.scheme), why));
+            fmt::format("eta = {} cannot run with dt_DEM = {} s and the FEM integrator {}: lower eta, "
+                        "lower dt_dem, or (for the FEM's own limit) use fem_scheme = \"implicit-newmark\"{}",
+                        fmt::join(s.refused, ", "), p.dt, fem::to_string(p.scheme), why));
 }
 
 // ---- the sweep and its files ---------------------------------------------------------------
 
-std::vector<couple::SweepRow> sweep(const Plan& p) {
-  couple::SweepOptions so;
+std::vector<SweepRow> sweep(const Plan& p) {
+  SweepOptions so;
   so.etas = p.opt.etas;
   so.modes.clear();
   if (p.opt.modes != "parallel") so.modes.push_back(couple::Execution::Serial);
@@ -195,7 +207,8 @@ std::vector<couple::SweepRow> sweep(const Plan& p) {
   so.repeats = p.opt.repeats;
   so.pulse = {p.opt.pulse_amplitude, p.opt.pulse_duration};
   so.fem_scheme = p.scheme;
-  return p.meta ? couple::sweep_metamaterial(so) : couple::sweep_chain6(so);
+  so.run_unstable = p.opt.run_unstable;
+  return p.meta ? sweep_metamaterial(so) : sweep_chain6(so);
 }
 
 std::string header(const Plan& p) {
@@ -217,22 +230,24 @@ std::string header(const Plan& p) {
 }
 
 double mode_code(const std::string& m) { return m == "serial" ? 0 : m == "parallel" ? 1 : 2; }
+double status_code(const std::string& s) { return s.empty() ? 0 : s == "refused" ? 1 : 2; }
 
 /// Writes <case>_sweep.{csv,md,png} and summary.json into `dir`; prints the Markdown table.
-void write_files(const Plan& p, const std::vector<couple::SweepRow>& rows, const fs::path& dir,
-                 double wall_s) {
+void write_files(const Plan& p, const std::vector<SweepRow>& rows, const fs::path& dir, double wall_s) {
   const ReportOptions& opt = p.opt;
   const std::string stem = opt.case_name + "_sweep";
   {
-    io::CsvWriter csv(dir / (stem + ".csv"), {"eta", "mode", "dt_dem_s", "dt_fem_s", "fem_steps", "dem_steps",
-                                              "err_max_m", "err_rms_m", "ref_max_m", "wall_s"});
+    io::CsvWriter csv(dir / (stem + ".csv"),
+                      {"eta", "mode", "dt_dem_s", "dt_fem_s", "fem_steps", "dem_steps", "err_max_m",
+                       "err_rms_m", "ref_max_m", "wall_s", "status", "stopped_at_s"});
     for (const auto& r : rows)
       csv.row({double(r.eta), mode_code(r.mode), r.dt_dem, r.dt_fem, double(r.fem_steps), double(r.dem_steps),
-               r.err_max, r.err_rms, r.ref_max, r.wall_s});
+               r.err_max, r.err_rms, r.ref_max, r.wall_s, status_code(r.status), r.stopped_at});
     csv.close();
   }
-  const std::string md = header(p) + "\n" + couple::sweep_markdown(rows) +
-                         "\nmode column of the CSV: 0 serial, 1 parallel, 2 monolithic baseline.\n";
+  const std::string md = header(p) + "\n" + sweep_markdown(rows) +
+                         "\nmode column of the CSV: 0 serial, 1 parallel, 2 monolithic baseline; status: 0 "
+                         "completed, 1 refused, 2 blew up (stopped by the energy check at stopped_at_s).\n";
   std::ofstream(dir / (stem + ".md")) << md;
   std::fwrite(md.data(), 1, md.size(), stdout);
 
@@ -242,7 +257,7 @@ void write_files(const Plan& p, const std::vector<couple::SweepRow>& rows, const
       {"etas", opt.etas},      {"modes", opt.modes},       {"wall_seconds", wall_s}};
   if (!opt.scene.empty()) summary["scene"] = opt.scene.string();
   json jr = json::array();
-  for (const auto& r : rows)
+  for (const auto& r : rows) {
     jr.push_back({{"eta", r.eta},
                   {"mode", r.mode},
                   {"dt_fem_s", r.dt_fem},
@@ -250,7 +265,10 @@ void write_files(const Plan& p, const std::vector<couple::SweepRow>& rows, const
                   {"err_rms_m", std::isfinite(r.err_rms) ? json(r.err_rms) : json(nullptr)},
                   {"ref_max_m", r.ref_max},
                   {"wall_s", std::isfinite(r.wall_s) ? json(r.wall_s) : json(nullptr)},
+                  {"status", r.status.empty() ? "completed" : r.status},
                   {"probe", r.probe}});
+    if (r.status == "blew up") jr.back()["stopped_at_s"] = r.stopped_at;
+  }
   summary["rows"] = jr;
   std::ofstream(dir / "summary.json") << summary.dump(2) << "\n";
 
@@ -345,6 +363,7 @@ ReportOptions coupled_report_options(const scene::Scene& sc, bool force) {
   o.pulse_duration = c.pulse_duration;
   if (c.repeats.given) o.repeats = static_cast<int>(c.repeats);
   o.refuse_unstable_eta = !force;
+  o.run_unstable = force;
   return o;
 }
 

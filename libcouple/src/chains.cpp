@@ -3,7 +3,6 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -127,14 +126,14 @@ CoupledChain split_chain(const ChainModel& model, const std::vector<std::int64_t
   }
   auto dem = std::make_unique<SpringNetworkPartition>(std::move(dn), s.dt_dem, "DEM", s.allow_unstable);
   // loads go to the partition that owns the node
-  for (const auto& [g, f] : model.loads) {
-    const auto gi = static_cast<std::int64_t>(g);
+  for (const SineLoad& l : model.loads) {
+    const auto gi = static_cast<std::int64_t>(l.node);
     if (floc.count(gi) && role_of(gi, true) != Role::External)
-      solver.add_load(static_cast<std::size_t>(floc[gi]), f);
+      solver.add_load(static_cast<std::size_t>(floc[gi]), l);
     else if (dloc.count(gi) && role_of(gi, false) != Role::External)
-      dem->add_load(static_cast<std::size_t>(dloc[gi]), f);
+      dem->add_load(static_cast<std::size_t>(dloc[gi]), l);
     else
-      fail(ErrorKind::Input, "split_chain: load on node {} that no partition owns", g);
+      fail(ErrorKind::Input, "split_chain: load on node {} that no partition owns", l.node);
   }
   c.fem = std::make_unique<FemPartition>(std::move(solver), "FEM");
   c.dem = std::move(dem);
@@ -151,7 +150,7 @@ fem::Solver monolithic_solver(const ChainModel& model, const fem::SolverSettings
   std::int32_t wall = -1;
   fem::Solver solver(network_mesh(model.net, all, loc, wall), s);
   if (wall >= 0) solver.fix(static_cast<std::size_t>(wall));
-  for (const auto& [g, f] : model.loads) solver.add_load(g, f);
+  for (const SineLoad& l : model.loads) solver.add_load(l.node, l);
   return solver;
 }
 
@@ -165,9 +164,9 @@ constexpr double kChainP = 1.0;           // force amplitude (N)
 ChainModel chain6_model() {
   ChainModel m;
   m.net.mass.assign(6, 1.0);
-  m.net.add_ground_spring(0, 1.0);                                                        // k1: wall–m1
-  for (int i = 0; i < 5; ++i) m.net.add_spring(i, i + 1, 1.0);                            // k2..k6
-  m.loads.emplace_back(1, [](double t) { return kChainP * std::sin(kChainOmega * t); });  // on m2
+  m.net.add_ground_spring(0, 1.0);                                                         // k1: wall–m1
+  for (int i = 0; i < 5; ++i) m.net.add_spring(i, i + 1, 1.0);                             // k2..k6
+  m.loads.push_back({.node = 1, .amplitude = kChainP, .period = 2 * M_PI / kChainOmega});  // on m2
   return m;
 }
 
@@ -217,7 +216,7 @@ ChainModel metamaterial_model(const MetamaterialParams& p) {
   m.net.add_ground_spring(kOuter - 1, kKn);  // outer mass 800 tied to a wall
   for (int r = 0; r < kResonators; ++r) m.net.add_spring(kFirstResonator + r, kOuter + r, kKs);
   const double A = p.pulse_amplitude, T = p.pulse_duration;
-  m.loads.emplace_back(0, [A, T](double t) { return t >= 0 && t <= T ? A * std::sin(M_PI * t / T) : 0.0; });
+  m.loads.push_back({.node = 0, .amplitude = A, .period = 2 * T, .end = T});
   return m;
 }
 
@@ -283,193 +282,6 @@ void check_metamaterial_dt(double dt_dem, bool allow_unstable) {
          "{}\n  (a coupled run with an implicit FEM partition may still run: the DEM partition "
          "alone is within its limit)",
          msg);
-}
-
-// ---- sweeps ---------------------------------------------------------------------------
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-void errors_against(SweepRow& r, const std::vector<double>& t, const std::vector<double>& u,
-                    const std::function<double(double)>& ref, bool keep) {
-  double emax = 0, e2 = 0, rmax = 0;
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    const double ur = ref(t[k]), e = u[k] - ur;
-    emax = std::max(emax, std::abs(e));
-    e2 += e * e;
-    rmax = std::max(rmax, std::abs(ur));
-    if (keep) r.u_ref.push_back(ur);
-  }
-  r.err_max = std::isfinite(e2) ? emax : INFINITY;
-  r.err_rms = std::sqrt(e2 / static_cast<double>(std::max<std::size_t>(t.size(), 1)));
-  r.ref_max = rmax;
-  if (keep) {
-    r.t = t;
-    r.u = u;
-  }
-}
-
-// Runs one coupled point; the samples of the probe come from the FEM or DEM side.
-SweepRow coupled_point(const std::string& name, const ChainModel& model, const std::vector<std::int64_t>& fn,
-                       const std::vector<std::int64_t>& dn, std::int64_t probe_node, bool probe_on_fem,
-                       int eta, Execution mode, const SweepOptions& o, double dt_dem, double duration,
-                       fem::Scheme scheme, const std::function<double(double)>& ref) {
-  SweepRow r;
-  r.case_name = name;
-  r.eta = eta;
-  r.mode = to_string(mode);
-  r.dt_dem = dt_dem;
-  r.dt_fem = eta * dt_dem;
-  const auto nsys = static_cast<std::int64_t>(std::floor(duration / r.dt_fem + 1e-9));
-  r.fem_steps = nsys;
-  r.dem_steps = nsys * eta;
-  double best = INFINITY;
-  std::vector<double> t, u;
-  for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
-    CoupledChain c =
-        split_chain(model, fn, dn, SplitSettings{.dt_dem = dt_dem, .eta = eta, .fem_scheme = scheme});
-    Coupler cp(*c.fem, *c.dem, c.overlap, eta, mode);
-    if (probe_on_fem)
-      cp.probe_fem(c.fem_local(probe_node), "probe");
-    else
-      cp.probe_dem(c.dem_local(probe_node), "probe");
-    const auto t0 = Clock::now();
-    cp.initialise();
-    cp.run(nsys);
-    best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
-    const ProbeHistory& h = probe_on_fem ? cp.fem_probes()[0] : cp.dem_probes()[0];
-    t = h.t;
-    u = h.u;
-  }
-  r.wall_s = best;
-  errors_against(r, t, u, ref, o.keep_samples);
-  return r;
-}
-
-// Monolithic run of the whole model with one scheme (baseline rows).
-SweepRow monolithic_point(const std::string& name, const ChainModel& model, std::int64_t probe_node,
-                          fem::Scheme scheme, double dt, double duration, const SweepOptions& o,
-                          const std::function<double(double)>& ref) {
-  SweepRow r;
-  r.case_name = name;
-  r.eta = 1;
-  r.mode = "monolithic " + fem::to_string(scheme);
-  r.dt_dem = r.dt_fem = dt;
-  const auto n = static_cast<std::int64_t>(std::floor(duration / dt + 1e-9));
-  r.fem_steps = n;
-  std::vector<double> t, u;
-  double best = INFINITY;
-  for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
-    t.clear();
-    u.clear();
-    const auto t0 = Clock::now();
-    fem::Solver s = monolithic_solver(model, fem::SolverSettings{.scheme = scheme, .dt = dt});
-    s.initialise();
-    t.push_back(0);
-    u.push_back(s.u()[probe_node]);
-    for (std::int64_t k = 0; k < n; ++k) {
-      s.step();
-      t.push_back(s.time());
-      u.push_back(s.u()[probe_node]);
-    }
-    best = std::min(best, std::chrono::duration<double>(Clock::now() - t0).count());
-  }
-  r.wall_s = best;
-  errors_against(r, t, u, ref, o.keep_samples);
-  return r;
-}
-
-}  // namespace
-
-std::vector<SweepRow> sweep_chain6(const SweepOptions& o) {
-  const double dt = o.dt_dem > 0 ? o.dt_dem : 1e-4, T = o.duration > 0 ? o.duration : 20.0;
-  const ChainModel model = chain6_model();
-  const Chain6Exact exact;
-  const auto ref = [&exact](double t) { return exact.u(2, t); };  // m3
-  std::vector<SweepRow> rows;
-  for (Execution mode : o.modes)
-    for (int eta : o.etas) {
-      SweepRow r = coupled_point("chain6", model, {0, 1, 2, 3}, {2, 3, 4, 5}, 2, true, eta, mode, o, dt, T,
-                                 o.fem_scheme, ref);
-      r.probe = "m3 (FEM boundary node)";
-      rows.push_back(std::move(r));
-    }
-  SweepRow mono = monolithic_point("chain6", model, 2, fem::Scheme::CentralDifference, dt, T, o, ref);
-  mono.probe = "m3";
-  rows.push_back(std::move(mono));
-  return rows;
-}
-
-std::vector<SweepRow> sweep_metamaterial(const SweepOptions& o) {
-  const double dt = o.dt_dem > 0 ? o.dt_dem : 5e-5, T = o.duration > 0 ? o.duration : 0.075;
-  check_metamaterial_dt(dt);
-  const ChainModel model = metamaterial_model(o.pulse);
-  const std::int64_t probe = metamaterial_dem_mass(250);
-  // reference: monolithic implicit Newmark at a small step, sampled every step
-  fem::Solver ref_solver =
-      monolithic_solver(model, fem::SolverSettings{.scheme = fem::Scheme::ImplicitNewmark, .dt = o.dt_ref});
-  ref_solver.initialise();
-  const auto nref = static_cast<std::int64_t>(std::ceil(T / o.dt_ref)) + 1;
-  std::vector<double> uref{ref_solver.u()[probe]};
-  for (std::int64_t k = 0; k < nref; ++k) {
-    ref_solver.step();
-    uref.push_back(ref_solver.u()[probe]);
-  }
-  const double dref = o.dt_ref;
-  const auto ref = [&uref, dref](double t) {  // linear interpolation between reference steps
-    const double x = t / dref;
-    const auto k = std::min<std::size_t>(static_cast<std::size_t>(x), uref.size() - 2);
-    const double w = x - static_cast<double>(k);
-    return (1 - w) * uref[k] + w * uref[k + 1];
-  };
-  std::vector<SweepRow> rows;
-  for (Execution mode : o.modes)
-    for (int eta : o.etas) {
-      SweepRow r;
-      try {
-        r = coupled_point("metamaterial", model, metamaterial_fem_nodes(), metamaterial_dem_nodes(), probe,
-                          false, eta, mode, o, dt, T, o.fem_scheme, ref);
-      } catch (const Error& e) {
-        if (e.kind() != ErrorKind::Input) throw;
-        r.case_name = "metamaterial";
-        r.eta = eta;
-        r.mode = to_string(mode);
-        r.dt_dem = dt;
-        r.dt_fem = eta * dt;
-        r.err_max = r.err_rms = std::numeric_limits<double>::quiet_NaN();
-        r.wall_s = std::numeric_limits<double>::quiet_NaN();
-        r.probe = std::string("refused: ") + e.what();
-        rows.push_back(std::move(r));
-        continue;
-      }
-      r.probe = "DEM mass 250 (outer mass 550)";
-      rows.push_back(std::move(r));
-    }
-  SweepRow mono =
-      monolithic_point("metamaterial", model, probe, fem::Scheme::CentralDifference, dt, T, o, ref);
-  mono.probe = "DEM mass 250 (outer mass 550)";
-  rows.push_back(std::move(mono));
-  return rows;
-}
-
-std::string sweep_markdown(const std::vector<SweepRow>& rows) {
-  std::string s =
-      "| η | mode | dt_DEM (s) | dt_FEM (s) | FEM steps | DEM steps | max error (m) | RMS error (m) | max "
-      "error / "
-      "max abs(u_ref) | wall time (ms) |\n"
-      "|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
-  for (const SweepRow& r : rows) {
-    if (std::isnan(r.wall_s)) {
-      s += fmt::format("| {} | {} | {:.3g} | {:.3g} | – | – | refused | – | – | – |\n", r.eta, r.mode,
-                       r.dt_dem, r.dt_fem);
-      continue;
-    }
-    s += fmt::format("| {} | {} | {:.3g} | {:.3g} | {} | {} | {:.3e} | {:.3e} | {:.3e} | {:.2f} |\n", r.eta,
-                     r.mode, r.dt_dem, r.dt_fem, r.fem_steps, r.dem_steps, r.err_max, r.err_rms,
-                     r.ref_max > 0 ? r.err_max / r.ref_max : 0.0, 1e3 * r.wall_s);
-  }
-  return s;
 }
 
 }  // namespace strata::couple

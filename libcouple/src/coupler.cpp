@@ -243,10 +243,14 @@ void Coupler::exchange() {
 void Coupler::probe_fem(std::size_t dof, std::string name) {
   fem_probe_dofs_.push_back(dof);
   fem_hist_.push_back({std::move(name), {}, {}});
+  if (initialised_)
+    fem_hist_.back().t.push_back(fem_.time()), fem_hist_.back().u.push_back(fem_.displacement(dof));
 }
 void Coupler::probe_dem(std::size_t dof, std::string name) {
   dem_probe_dofs_.push_back(dof);
   dem_hist_.push_back({std::move(name), {}, {}});
+  if (initialised_)
+    dem_hist_.back().t.push_back(dem_.time()), dem_hist_.back().u.push_back(dem_.displacement(dof));
 }
 
 void Coupler::record_fem() {

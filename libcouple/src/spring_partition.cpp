@@ -35,6 +35,12 @@ void SpringNetworkPartition::add_load(std::size_t d, std::function<double(double
   loads_.push_back({d, std::move(f)});
 }
 
+void SpringNetworkPartition::set_dt(double dt) {
+  STRATA_CHECK(!initialised_, Input, "{}: set_dt() after initialise", name_);
+  STRATA_CHECK(dt > 0 && std::isfinite(dt), Input, "{}: dt = {} must be > 0 (s)", name_, dt);
+  dt_ = dt;
+}
+
 void SpringNetworkPartition::make_external(std::size_t d) {
   STRATA_CHECK(!initialised_ && d < dofs(), Input, "{}: make_external({}) after initialise or out of range",
                name_, d);
@@ -179,7 +185,9 @@ void SpringNetworkPartition::step() {
   for (Load& l : loads_) {
     if (external_[l.dof]) continue;
     const double fn = l.f(time_), un = u_[l.dof];
-    work_abs_ += std::abs(0.5 * (fn + l.f_prev) * (un - l.u_prev));
+    const double w = 0.5 * (fn + l.f_prev) * (un - l.u_prev);
+    work_abs_ += std::abs(w);
+    load_work_ += w;
     l.f_prev = fn;
     l.u_prev = un;
   }
@@ -202,6 +210,52 @@ void SpringNetworkPartition::check_blowup() {
          "work {:.4g} J)); dt = {:.4g} s, critical dt = {:.4g} s; last good step {}",
          name_, step_, time_, e, budget, energy0_, work_abs_, dt_, critical_dt(), last_good_);
   last_good_ = step_;
+}
+
+void SpringNetworkPartition::save_state(StateWriter& out, const std::string& prefix) const {
+  out.put_scalar<double>(prefix + "time", time_);
+  out.put_scalar<std::int64_t>(prefix + "step", step_);
+  out.put_scalar<std::int64_t>(prefix + "last_good", last_good_);
+  out.put(prefix + "u", u_);
+  out.put(prefix + "v", v_);
+  out.put(prefix + "a", a_);
+  out.put(prefix + "f", f_);
+  out.put(prefix + "external_u0", ext_u0_);
+  out.put(prefix + "external_v0", ext_v0_);
+  out.put(prefix + "external_t0", ext_t0_);
+  out.put(prefix + "external_f_prev", ext_f_prev_);
+  out.put(prefix + "external_u_prev", ext_u_prev_);
+  std::vector<double> loads;  // f_prev, u_prev of each load
+  for (const Load& l : loads_) loads.insert(loads.end(), {l.f_prev, l.u_prev});
+  out.put(prefix + "loads", loads);
+  out.put_scalar<double>(prefix + "energy0", energy0_);
+  out.put_scalar<double>(prefix + "work_abs", work_abs_);
+  out.put_scalar<double>(prefix + "load_work", load_work_);
+}
+
+void SpringNetworkPartition::load_state(const StateReader& in, const std::string& prefix) {
+  STRATA_CHECK(initialised_, Input, "{}: load_state() before initialise()", name_);
+  const std::size_t n = dofs(), ne = ext_list_.size();
+  time_ = in.get_scalar<double>(prefix + "time");
+  step_ = in.get_scalar<std::int64_t>(prefix + "step");
+  last_good_ = in.get_scalar<std::int64_t>(prefix + "last_good");
+  u_ = in.get<double>(prefix + "u", n);
+  v_ = in.get<double>(prefix + "v", n);
+  a_ = in.get<double>(prefix + "a", n);
+  f_ = in.get<double>(prefix + "f", n);
+  ext_u0_ = in.get<double>(prefix + "external_u0", ne);
+  ext_v0_ = in.get<double>(prefix + "external_v0", ne);
+  ext_t0_ = in.get<double>(prefix + "external_t0", ne);
+  ext_f_prev_ = in.get<double>(prefix + "external_f_prev", ne);
+  ext_u_prev_ = in.get<double>(prefix + "external_u_prev", ne);
+  const std::vector<double> loads = in.get<double>(prefix + "loads", 2 * loads_.size());
+  for (std::size_t k = 0; k < loads_.size(); ++k) {
+    loads_[k].f_prev = loads[2 * k];
+    loads_[k].u_prev = loads[2 * k + 1];
+  }
+  energy0_ = in.get_scalar<double>(prefix + "energy0");
+  work_abs_ = in.get_scalar<double>(prefix + "work_abs");
+  load_work_ = in.get_scalar<double>(prefix + "load_work");
 }
 
 }  // namespace strata::couple

@@ -113,6 +113,10 @@ const Scene& require_build_parts(const Scene& sc, SceneUse use) {
     if (use == SceneUse::Run) check_coupled_outputs(sc, *sc.coupled);
     return sc;
   }
+  if (sc.network) {
+    if (use == SceneUse::Run) check_outputs(sc.output);
+    return sc;
+  }
   check_regions(sc);
   if (use == SceneUse::Run) check_outputs(sc.output);
   return sc;

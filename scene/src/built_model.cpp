@@ -28,6 +28,18 @@ const couple::Coupler& BuiltModel::coupler() const {
   STRATA_ASSERT(coupled());
   return *coupler_;
 }
+couple::SpringNetworkPartition& BuiltModel::network() {
+  STRATA_ASSERT(has_network());
+  return *network_;
+}
+const couple::SpringNetworkPartition& BuiltModel::network() const {
+  STRATA_ASSERT(has_network());
+  return *network_;
+}
+std::pair<double, double> BuiltModel::network_probe(const NetworkProbe& p) const {
+  if (p.fem) return {fem_partition_->displacement(p.dof), fem_partition_->velocity(p.dof)};
+  return {network_->displacement(p.dof), network_->velocity(p.dof)};
+}
 fem::Solver& BuiltModel::fem() {
   STRATA_ASSERT(has_fem());
   return fem_partition_->solver();
@@ -45,11 +57,13 @@ std::string BuiltModel::execution() const { return coupled() ? couple::to_string
 
 std::int64_t BuiltModel::step_count() const {
   if (has_particles()) return sim().step_count();
+  if (has_network()) return network_->steps_done();
   return has_fem() ? fem().steps_done() : 0;
 }
 
 double BuiltModel::time() const {
   if (has_particles()) return sim().time();
+  if (has_network()) return network_->time();
   return has_fem() ? fem().time() : 0.0;
 }
 
@@ -71,10 +85,11 @@ void BuiltModel::advance(std::int64_t n) {
 }
 
 namespace {
-/// Energy of the particles and the FEM together (J).
+/// Energy of the particles (or the network's particle part) and the FEM together (J).
 double coupled_energy(const BuiltModel& m) {
-  return m.sim().kinetic_energy() + m.sim().bond_energy() + m.fem().kinetic_energy() +
-         m.fem().strain_energy();
+  const double particles =
+      m.has_network() ? m.network().energy() : m.sim().kinetic_energy() + m.sim().bond_energy();
+  return particles + m.fem().kinetic_energy() + m.fem().strain_energy();
 }
 }  // namespace
 
@@ -87,10 +102,13 @@ void BuiltModel::take_initial_energy() {
 void BuiltModel::check_coupled_energy() {
   const double e = coupled_energy(*this);
   // work of loads and boundary conditions: each part's work less what came from the other
-  const double w_dem = std::abs(sim().external_work() - sim().exchange_work());
+  // (a network's particle part counts the work of its loads apart from what it is passed)
+  const double w_dem = has_network() ? std::abs(network_->load_work())
+                                     : std::abs(sim().external_work() - sim().exchange_work());
   const double w_fem = std::abs(fem().user_work());
+  const double dem_floor = has_network() ? 1e-30 : sim().energy_floor();
   const double budget =
-      10 * (std::max(coupled_energy0, 0.0) + w_dem + w_fem) + sim().energy_floor() + fem().energy_floor();
+      10 * (std::max(coupled_energy0, 0.0) + w_dem + w_fem) + dem_floor + fem().energy_floor();
   if (!(e <= budget))
     fail(ErrorKind::Numerical,
          "coupled blow-up at step {}, t = {:.6g} s: particles and FEM hold {:.4g} J, more than {:.4g} J "
@@ -103,10 +121,12 @@ void BuiltModel::check_coupled_energy() {
 }
 
 std::int64_t BuiltModel::last_good_step() const {
-  std::int64_t good = has_particles() ? sim().last_good_step() : step_count();
+  std::int64_t good = has_particles() ? sim().last_good_step()
+                      : has_network() ? network_->last_good_step()
+                                      : step_count();
   if (coupled()) good = std::min(good, coupled_last_good);
-  // The FEM side counts FEM steps: η DEM steps each.
-  if (has_fem()) good = std::min(good, fem().last_good_step() * (has_particles() ? eta : 1));
+  // The FEM side counts FEM steps: η particle steps each.
+  if (has_fem()) good = std::min(good, fem().last_good_step() * (coupled() ? eta : 1));
   return good;
 }
 
@@ -115,16 +135,20 @@ std::uint64_t BuiltModel::state_hash() const {
   // displacements and velocities.
   std::uint64_t h = has_particles() ? sim().state_hash() : 1469598103934665603ull;
   if (!has_fem()) return h;
-  auto mix = [&h](const Eigen::VectorXd& v) {
-    for (Eigen::Index i = 0; i < v.size(); ++i) {
+  auto mix = [&h](const auto& v) {
+    for (std::size_t i = 0; i < std::size_t(v.size()); ++i) {
       unsigned char bytes[sizeof(double)];
-      std::memcpy(bytes, &v[i], sizeof(double));
+      std::memcpy(bytes, v.data() + i, sizeof(double));
       for (unsigned char c : bytes) {
         h ^= c;
         h *= 1099511628211ull;
       }
     }
   };
+  if (has_network()) {
+    mix(network_->u());
+    mix(network_->v());
+  }
   mix(fem().u());
   mix(fem().v());
   return h;

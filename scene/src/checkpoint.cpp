@@ -39,6 +39,7 @@ fs::path write_checkpoint(const fs::path& dir, const BuiltModel& m, const std::s
   const std::size_t particles = m.has_particles() ? m.sim().particle_count() : 0;
   io::CheckpointWriter w(file, {STRATA_VERSION, fingerprint, m.dim, particles, m.step_count(), m.time()});
   if (m.has_particles()) m.sim().save_state(w);
+  if (m.has_network()) m.network().save_state(w, "network/");
   if (m.has_fem()) m.fem().save_state(w);
   out.save(w);
   w.put_scalar<std::int64_t>("driver/frame_breaks", frame_breaks);

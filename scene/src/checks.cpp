@@ -153,8 +153,60 @@ class KeyChecks {
                       w, c.real("diameter")));
   }
 
+  /// Checks between the keys of [network]: rows name nodes of `mass`, stiffnesses are
+  /// positive, and the [solver] keys it takes (the others are for particle regions).
+  void check_network(const Tables& scene) {
+    const Table& n = scene.table("network");
+    const auto nodes = static_cast<std::int64_t>(n.reals("mass").size());
+    auto node_ok = [&](double x) { return x == std::floor(x) && x >= 0 && x < double(nodes); };
+    const std::string allowed = fmt::format("node numbers 0 to {} (one per mass)", nodes - 1);
+    auto rows = [&](const std::string& key, std::size_t node_columns, const char* what) {
+      const auto& table = n.real_table(key);
+      for (std::size_t r = 0; r < table.size(); ++r) {
+        for (std::size_t c = 0; c < node_columns; ++c)
+          if (!node_ok(table[r][c])) {
+            report(n.where(key), fmt::format("{}[{}]: node {} is not one of the network's; allowed: {}", key,
+                                             r, table[r][c], allowed));
+            return;
+          }
+        if (node_columns == 2 && table[r][0] == table[r][1]) {
+          report(n.where(key), fmt::format("{}[{}] joins node {} to itself", key, r, table[r][0]));
+          return;
+        }
+        if (!(table[r][node_columns] > 0)) {
+          report(n.where(key),
+                 fmt::format("{}[{}]: {} = {} must be > 0", key, r, what, table[r][node_columns]));
+          return;
+        }
+      }
+    };
+    rows("springs", 2, "the stiffness (N/m)");
+    rows("walls", 1, "the stiffness (N/m)");
+    rows("sine_loads", 1, "the period (s)");
+    for (const auto& row : n.real_table("sine_loads"))
+      if (!(row[3] >= 0))
+        report(n.where("sine_loads"), fmt::format("sine_loads: end = {} s must be >= 0", row[3]));
+    for (const std::string key : {"fem_nodes", "particle_nodes", "probe_nodes"})
+      for (std::int64_t i : n.integers(key))
+        if (i >= nodes) {
+          report(n.where(key),
+                 fmt::format("{}: node {} is not one of the network's; allowed: {}", key, i, allowed));
+          break;
+        }
+    const Table& solver = scene.table("solver");
+    for (const std::string key : {"settle", "damping", "viscous_c", "local_damping", "gravity",
+                                  "contact_detection", "min_particles_per_thread"})
+      if (solver.given(key))
+        report(solver.where(key),
+               fmt::format(
+                   "solver.{} does not apply to a network scene ([network]); its [solver] takes dt, "
+                   "dt_safety, steps, duration, allow_unstable, threads, fem_integrator, eta and coupling",
+                   key));
+  }
+
   void run(const Tables& scene) {
     if (scene.coupled()) return check_coupled(scene);
+    if (scene.network()) return check_network(scene);
     if (scene.calibration()) return check_calibrate(scene);
     const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
     const auto materials = unique_names(scene, "material");

@@ -328,12 +328,6 @@ void fem_conditions(const Scene& sc, const preprocess::SimplexMesh& mesh,
   }
 }
 
-fem::Scheme scheme_of(const SolverTable& solver, double dt_fem, double explicit_limit) {
-  const std::string& s = solver.fem_integrator;
-  if (s != "auto") return fem::scheme_from_string(s);
-  return dt_fem <= explicit_limit ? fem::Scheme::CentralDifference : fem::Scheme::ImplicitNewmark;
-}
-
 /// A model of FEM regions only.
 BuiltModel build_fem_only(const Scene& sc, bool force) {
   const SolverTable& solver = sc.solver;
@@ -588,6 +582,12 @@ BuiltModel build_coupled(const Scene& sc, bool force) {
   return m;
 }
 }  // namespace
+
+fem::Scheme scheme_of(const SolverTable& solver, double dt_fem, double explicit_limit) {
+  const std::string& s = solver.fem_integrator;
+  if (s != "auto") return fem::scheme_from_string(s);
+  return dt_fem <= explicit_limit ? fem::Scheme::CentralDifference : fem::Scheme::ImplicitNewmark;
+}
 
 BuiltModel build_fem_model(const Scene& sc, bool force) {
   bool any_particles = false;

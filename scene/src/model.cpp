@@ -716,6 +716,11 @@ BuiltModel build_model(const Scene& sc, bool force) {
                sc.file.string());
   require_build_parts(sc);  // `strata check` as `strata run`: a key this build cannot serve, at its line
   const auto t0 = std::chrono::steady_clock::now();
+  if (sc.network) {
+    BuiltModel m = build_network_model(sc, force);
+    m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return m;
+  }
   const SolverTable& solver = sc.solver;
   const int dim = sc.scene.dimension;
   bool any_fem = false;

@@ -39,6 +39,13 @@ std::int64_t steps_in(double seconds, double dt);
 /// solver.steps, or solver.duration / dt, rounded up to a multiple of `quantum`.
 std::int64_t step_count_of(const SolverTable& solver, double dt, int quantum);
 
+/// The FEM integrator of solver.fem_integrator at the FEM step `dt_fem`: auto is central
+/// difference up to the explicit limit and implicit Newmark above it.
+fem::Scheme scheme_of(const SolverTable& solver, double dt_fem, double explicit_limit);
+
+/// A network scene ([network]): its FEM part and particle part coupled (network_model.cpp).
+BuiltModel build_network_model(const Scene& sc, bool force);
+
 /// A model with FEM regions: FEM alone, or coupled with the particle regions through the
 /// overlap layers (fem_model.cpp).
 BuiltModel build_fem_model(const Scene& sc, bool force);

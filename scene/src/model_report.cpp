@@ -60,7 +60,7 @@ json model_counts_json(const Scene& sc, int dim, const std::vector<RegionInfo>& 
   json groups = json::object();
   for (const auto& [name, n] : groups_in) groups[name] = n;
   return {{"scene", sc.file.string()},
-          {"title", sc.scene.title.value},
+          {"title", sc.network ? sc.network->title.value : sc.scene.title.value},
           {"dimension", dim},
           {"regions", regions},
           {"groups", groups}};
@@ -124,6 +124,15 @@ json model_json(const BuiltModel& m, const Scene& sc) {
     j["fem_dt_s"] = m.dt * double(m.coupled() ? m.eta : 1);
     j["fem_dt_crit_s"] = std::isfinite(m.fem_dt_crit) ? json(m.fem_dt_crit) : json("unconditional");
     j["fem_explicit_dt_crit_s"] = m.fem_explicit_dt_crit;
+  }
+  if (m.has_network()) {
+    const NetworkTable& t = *sc.network;
+    j["network"] = {{"nodes", t.mass->size()},
+                    {"springs", t.springs->size()},
+                    {"walls", t.walls->size()},
+                    {"fem_nodes", t.fem_nodes->size()},
+                    {"particle_nodes", t.particle_nodes->size()},
+                    {"loads", t.sine_loads->size()}};
   }
   if (m.coupled()) {
     j["eta"] = m.eta;

@@ -61,6 +61,7 @@ struct Run::Impl {
     if (!opt.restart.empty()) {
       ckpt = open_checkpoint(opt.restart, fingerprint, sc);
       if (m.has_particles()) m.sim().load_state(*ckpt);
+      if (m.has_network()) m.network().load_state(*ckpt, "network/");
       if (m.has_fem()) m.fem().load_state(*ckpt);
       m.coupled_last_good = m.step_count();
     }

@@ -38,9 +38,10 @@ class RunOutput {
       : dir_(dir),
         out_(sc.output),
         fields_(with_render_field(out_.fields, out_.render_field)),
-        title_(sc.scene.title),
+        title_(sc.network ? sc.network->title.value : sc.scene.title.value),
         particles_on_(m.has_particles()),
-        fem_on_(m.has_fem()) {
+        fem_on_(m.has_fem() && !m.has_network()),
+        network_on_(m.has_network()) {
     if (particles_on_) group_names_ = m.sim().group_names();
     const auto mode = resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh;
     if (particles_on_) {
@@ -55,7 +56,10 @@ class RunOutput {
     if (particles_on_)
       cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
                                "broken_tension", "broken_shear", "contacts"});
-    if (fem_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
+    if (network_on_) cols.insert(cols.end(), {"particle_energy", "particle_load_work"});
+    if (fem_on_ || network_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
+    for (const auto& p : m.network_probes)
+      cols.insert(cols.end(), {fmt::format("node{}_u", p.node), fmt::format("node{}_v", p.node)});
     // [probe] wedge_group and wedge_friction: checked with the scene (a 2D group, basal < internal)
     wedge_group_ = *sc.probe.wedge_group;
     wedge_backstop_ = *sc.probe.wedge_backstop;
@@ -80,7 +84,8 @@ class RunOutput {
       bond_ = resume->get<double>("driver/probes/bond_energy", time_.size());
       work_ = resume->get<double>("driver/probes/external_work", time_.size());
     }
-    if (fem_on_) {
+    if (network_on_) network_ = resume->get<double>("driver/probes/network_energy", time_.size());
+    if (fem_on_ || network_on_) {
       fem_kinetic_ = resume->get<double>("driver/probes/fem_kinetic_energy", time_.size());
       fem_strain_ = resume->get<double>("driver/probes/fem_strain_energy", time_.size());
     }
@@ -98,7 +103,8 @@ class RunOutput {
       w.put("driver/probes/bond_energy", bond_);
       w.put("driver/probes/external_work", work_);
     }
-    if (fem_on_) {
+    if (network_on_) w.put("driver/probes/network_energy", network_);
+    if (fem_on_ || network_on_) {
       w.put("driver/probes/fem_kinetic_energy", fem_kinetic_);
       w.put("driver/probes/fem_strain_energy", fem_strain_);
     }
@@ -156,6 +162,7 @@ class RunOutput {
   /// The last frame listed in the series, or an empty path.
   fs::path last_frame() const {
     const auto& series = particles_on_ ? particles_ : fem_;
+    if (!series) return {};
     return series->frames().empty() ? fs::path() : dir_ / series->frames().back().file;
   }
 
@@ -179,11 +186,20 @@ class RunOutput {
       bond_.push_back(s.bond_energy());
       work_.push_back(s.external_work());
     }
-    if (fem_on_) {
+    if (network_on_) {
+      const auto& n = m.network();
+      row.insert(row.end(), {n.energy(), n.load_work()});
+      network_.push_back(n.energy());
+    }
+    if (fem_on_ || network_on_) {
       const auto& f = m.fem();
       row.insert(row.end(), {f.kinetic_energy(), f.strain_energy()});
       fem_kinetic_.push_back(f.kinetic_energy());
       fem_strain_.push_back(f.strain_energy());
+    }
+    for (const auto& p : m.network_probes) {
+      const auto [u, v] = m.network_probe(p);
+      row.insert(row.end(), {u, v});
     }
     if (!gauges_.empty()) {
       const auto sums = gauge_displacements(m);
@@ -236,8 +252,10 @@ class RunOutput {
     return out;
   }
 
+  /// A frame of the state now (a network scene has none to write: its nodes have no place).
   void frame(const BuiltModel& m) {
     last_frame_step_ = m.step_count();
+    if (network_on_) return;
     if (!STRATA_WITH_VTK || !out_.vtk) return;  // without VTK only what the scene left at defaults
     std::optional<io::MeshFrame> mesh;
     if (fem_on_) {
@@ -462,7 +480,8 @@ class RunOutput {
         p.series.push_back({"bond strain", time_, bond_});
         p.series.push_back({"work of external forces", time_, work_});
       }
-      if (fem_on_) {
+      if (network_on_) p.series.push_back({"kinetic + spring (particle part)", time_, network_});
+      if (fem_on_ || network_on_) {
         p.series.push_back({"kinetic (FEM)", time_, fem_kinetic_});
         p.series.push_back({"strain (FEM)", time_, fem_strain_});
       }
@@ -525,10 +544,11 @@ class RunOutput {
   std::vector<double> wedge_friction_;    ///< internal, basal; empty: no critical taper
   FrameSelection selection_;
   bool rendered_while_running_ = false;
-  bool particles_on_ = false, fem_on_ = false;
+  bool particles_on_ = false, fem_on_ = false, network_on_ = false;
   std::optional<io::Series> particles_, bonds_, fem_, walls_;  // walls_ only when there are walls
   std::optional<io::CsvWriter> probes_;
-  std::vector<double> time_, kinetic_, bond_, work_, fem_kinetic_, fem_strain_, strain_, stress_, lateral_;
+  std::vector<double> time_, kinetic_, bond_, work_, fem_kinetic_, fem_strain_, network_, strain_, stress_,
+      lateral_;
   std::vector<std::int64_t> probe_steps_;
   std::vector<fs::path> written_;
   std::int64_t last_frame_step_ = -1;

@@ -16,8 +16,9 @@ namespace {
 
 std::vector<TableSpec> make_schema() {
   using namespace tables;
-  return {scene_spec(), material_spec(), region_spec(), group_spec(), boundary_spec(), load_spec(),
-          wall_spec(),  solver_spec(),   output_spec(), probe_spec(), coupled_spec(),  calibrate_spec()};
+  return {scene_spec(),   material_spec(), region_spec(),   group_spec(),  boundary_spec(),
+          load_spec(),    wall_spec(),     solver_spec(),   output_spec(), probe_spec(),
+          network_spec(), coupled_spec(),  calibrate_spec()};
 }
 
 }  // namespace
@@ -34,6 +35,11 @@ const std::vector<JobTable>& job_tables() {
        {"directory", "render"},
        "a coupled scene",
        "describes the whole model in [coupled]"},
+      {"network",
+       {"solver", "output"},
+       {"directory", "probe_every", "checkpoint_every", "render"},
+       "a network scene",
+       "describes the whole model in [network]"},
       {"calibrate",
        {"scene", "output"},
        {"directory", "render"},

@@ -76,6 +76,7 @@ struct Tables {
   const std::vector<Table>& tables(const std::string& name) const;
   bool coupled() const { return !tables("coupled").empty(); }
   bool calibration() const { return !tables("calibrate").empty(); }
+  bool network() const { return !tables("network").empty(); }
 };
 
 /// Reports one problem of a scene at a position (the loader throws the first in file order).

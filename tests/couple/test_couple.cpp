@@ -62,27 +62,6 @@ TEST(Couple, Chain6ExactSolutionIsConsistent) {
   }
 }
 
-// m3 against the exact solution over 20 s: error small at η = 1 (max < 1e-7 m against an
-// amplitude of 1.12 m; measured 1.9e-8, the monolithic central difference at the same dt has
-// 1.0e-8), and larger at larger η (measured 4.6e-7 at η = 5, 7.2e-6 at η = 20).
-TEST(Couple, Chain6ErrorSmallAtEtaOneAndGrowsWithEta) {
-  SweepOptions o;
-  o.etas = {1, 5, 20};
-  o.modes = {Execution::Serial};
-  const std::vector<SweepRow> rows = sweep_chain6(o);
-  ASSERT_EQ(rows.size(), 4u);  // + monolithic baseline
-  for (const auto& r : rows)
-    std::printf("eta %2d %-10s max %.3e rms %.3e (ref max %.3f) %.2f ms\n", r.eta, r.mode.c_str(), r.err_max,
-                r.err_rms, r.ref_max, 1e3 * r.wall_s);
-  EXPECT_GT(rows[0].ref_max, 0.5);
-  EXPECT_LT(rows[0].err_max, 1e-7);
-  EXPECT_LT(rows[0].err_max, rows[1].err_max);
-  EXPECT_LT(rows[1].err_max, rows[2].err_max);
-  EXPECT_LT(rows[0].err_rms, rows[1].err_rms);
-  EXPECT_LT(rows[1].err_rms, rows[2].err_rms);
-  EXPECT_LT(rows[2].err_max, 1e-2 * rows[2].ref_max);  // still a usable answer at η = 20
-}
-
 // Serial and parallel runs give identical results, bit for bit, on both sides.
 TEST(Couple, SerialAndParallelAreBitIdentical) {
   for (int eta : {1, 3, 20}) {
@@ -181,27 +160,4 @@ TEST(Couple, MetamaterialStabilityNumbers) {
     EXPECT_NE(w.find("8.01e-05 s for the DEM partition alone"), std::string::npos) << w;
   }
   EXPECT_NO_THROW(check_metamaterial_dt(5e-5));
-}
-
-// The metamaterial run (75 ms, dt_DEM = 5e-5 s, implicit FEM) against the monolithic implicit
-// Newmark reference (dt 5e-6 s here to keep the test fast) at DEM mass 250: within 5% of the
-// peak at η = 1 (measured 2.0%, the same as a monolithic central difference at dt_DEM), and
-// worse at η = 4 (measured 20%).
-TEST(Couple, MetamaterialShortRunTracksReference) {
-  SweepOptions o;
-  o.etas = {1, 4};
-  o.modes = {Execution::Serial};
-  o.duration = 0.075;
-  o.dt_dem = 5e-5;
-  o.dt_ref = 5e-6;
-  o.fem_scheme = Scheme::ImplicitNewmark;
-  const auto rows = sweep_metamaterial(o);
-  for (const auto& r : rows)
-    std::printf("eta %2d %-10s max %.3e rms %.3e (ref max %.3e) %.2f ms\n", r.eta, r.mode.c_str(), r.err_max,
-                r.err_rms, r.ref_max, 1e3 * r.wall_s);
-  ASSERT_EQ(rows.size(), 3u);
-  EXPECT_GT(rows[0].ref_max, 1e-4);  // the pulse has arrived at DEM mass 250
-  EXPECT_LT(rows[0].err_max, 0.05 * rows[0].ref_max);
-  EXPECT_GT(rows[1].err_max, rows[0].err_max);
-  EXPECT_LT(rows[2].err_max, 0.05 * rows[2].ref_max);
 }

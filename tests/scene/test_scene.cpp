@@ -352,11 +352,12 @@ TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
   EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
             "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
             "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], "
-            "[coupled], [calibrate])");
+            "[network], [coupled], [calibrate])");
   EXPECT_EQ(
       error_of(edit("[[group]]", "[[groups]]")),
       "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
-      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled], "
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [network], "
+      "[coupled], "
       "[calibrate])");
 }
 
@@ -548,7 +549,8 @@ TEST(SceneOverrides, ErrorsPointAtTheOverride) {
   EXPECT_EQ(
       error_of(kBase, {"solvr.dt=1"}),
       "--set solvr.dt=1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
-      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [coupled], "
+      "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [network], "
+      "[coupled], "
       "[calibrate])");
   EXPECT_EQ(
       error_of(kBase, {"output.render_field=dmage"}),

@@ -40,7 +40,10 @@ TableSpec coupled_spec() {
               .doc("DEM time step dt_DEM (velocity Verlet); the FEM step is η·dt_DEM; required for the "
                    "chains. An unstable dt_DEM is refused by `strata check` and `strata run` (the "
                    "metamaterial chain needs dt_DEM <= 7.68e-5 s; the 1e-4 s of Li et al. 2023 is "
-                   "unstable). The wave sets dt_DEM with dt_fraction."),
+                   "unstable). η·dt_DEM above the DEM partition's limit (8.0e-5 s for the metamaterial "
+                   "chain) is refused too: the copied overlap drives the DEM partition like a step of "
+                   "η·dt_DEM and the run grows unstable, so the paper's η up to 20 needs dt_DEM <= 4e-6 s. "
+                   "The wave sets dt_DEM with dt_fraction."),
           K("eta", IntegerList)
               .ge(1)
               .length(1, 0)

@@ -52,6 +52,7 @@ void describe(const Tables& t, Scene& sc) {
   sc.walls = read_all(t, "wall", read_wall);
   if (t.coupled()) sc.coupled = read_coupled(t.table("coupled"));
   if (t.calibration()) sc.calibrate = read_calibrate(t.table("calibrate"));
+  if (t.network()) sc.network = read_network(t.table("network"));
   sc.fingerprint = fingerprint_of(t);
 }
 

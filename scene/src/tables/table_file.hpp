@@ -239,4 +239,7 @@ CoupledTable read_coupled(const Table& t);
 TableSpec calibrate_spec();
 CalibrateTable read_calibrate(const Table& t);
 
+TableSpec network_spec();
+NetworkTable read_network(const Table& t);
+
 }  // namespace strata::scene::tables

@@ -25,7 +25,7 @@ struct ReportOptions {
   std::filesystem::path output = "out/report";   ///< directory for <case>_sweep.{csv,md,png}
   std::vector<int> etas{1, 2, 3, 4, 5, 10, 20};  ///< integer η >= 1
   std::string modes = "both";                    ///< serial, parallel or both
-  double dt_dem = 0;                             ///< s; 0: case default (chain6 1e-4, metamaterial 5e-5)
+  double dt_dem = 0;                             ///< s; 0: case default (chain6 1e-4, metamaterial 4e-6)
   double duration = 0;                           ///< s; 0: case default (chain6 20, metamaterial 0.075)
   std::string fem_scheme;  ///< empty: case default (chain6 explicit-newmark, metamaterial implicit-newmark)
   double dt_ref = 1e-6;    ///< metamaterial reference step (implicit Newmark)
@@ -34,10 +34,14 @@ struct ReportOptions {
   int repeats = 3;               ///< runs per point, fastest kept
   bool check_only = false;       ///< print the stability numbers and stop (exit 2 when unstable)
   bool no_plot = false;
-  /// Refuse the whole sweep (exit 2, before it starts) when an η point would be refused by
-  /// the coupler (η·dt_DEM above the explicit FEM limit). Otherwise the metamaterial table
-  /// shows such points as "refused"; chain6 is always refused as a whole.
+  /// Refuse the whole sweep (exit 2, before it starts) when an η point would be refused (η·dt_DEM
+  /// above the explicit FEM limit or the DEM partition's, the exchange's). Otherwise the
+  /// metamaterial table shows such points as "refused"; chain6 is always refused as a whole.
   bool refuse_unstable_eta = false;
+  /// Run the points that would be refused anyway (allow_unstable in their scenes), to see them
+  /// blow up: their rows read "blew up at t = …" (`strata report --run-unstable`, `strata run
+  /// --force`). An unstable dt_DEM is refused all the same.
+  bool run_unstable = false;
   std::string title;            ///< shown in the Markdown header and summary.json
   std::filesystem::path scene;  ///< the scene file (summary.json); empty for `strata report`
 };
@@ -53,7 +57,7 @@ nlohmann::json per_eta_json(const std::vector<couple::CoupledStability>& per_eta
 
 /// The report options of a coupled-chain scene ([coupled], case chain6 or metamaterial);
 /// output is the scene's output.directory, no_plot is !output.render, refuse_unstable_eta is
-/// !force.
+/// !force and run_unstable is force.
 ReportOptions coupled_report_options(const scene::Scene& sc, bool force);
 
 /// [coupled].threads of a coupled scene, or its case's default (chains 0 = all, wave 1).

@@ -1,7 +1,7 @@
 #pragma once
 /// The chain cases of Li, Jin, Wang, Pan & Yang (2023), "Parallel computing method of
-/// FEM–DEM with multiple-time step based on overlapping boundary", and the η sweeps behind
-/// `strata report`:
+/// FEM–DEM with multiple-time step based on overlapping boundary" (their η sweeps, behind
+/// `strata report`, run them as scenes: cases/chain_sweep.hpp):
 ///  - the 6-DOF chain wall–k1–m1–…–k6–m6 (k = 1 N/m, m = 1 kg, P·sin(ωt) on m2, P = 1 N,
 ///    ω = π/2; FEM m1..m4, DEM m3..m6) against its exact modal solution;
 ///  - the metamaterial chain (800 outer masses, 200 resonators) against a monolithic implicit
@@ -14,6 +14,7 @@
 #include <strata/fem/solver.hpp>
 
 #include <Eigen/Core>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
@@ -22,10 +23,22 @@
 
 namespace strata::couple {
 
+/// A sinusoidal force on one node: amplitude·sin(2π t / period) from t = 0 until `end`
+/// (0: no end), zero after. A half-sine pulse of length T is period = 2T, end = T.
+struct SineLoad {
+  std::size_t node = 0;
+  double amplitude = 0;  ///< N
+  double period = 1;     ///< s
+  double end = 0;        ///< s; 0: for ever
+  double operator()(double t) const {
+    return t >= 0 && (end <= 0 || t <= end) ? amplitude * std::sin(2 * M_PI * t / period) : 0.0;
+  }
+};
+
 /// A whole (monolithic) 1-DOF-per-node network with loads, before splitting.
 struct ChainModel {
   SpringNetwork net;
-  std::vector<std::pair<std::size_t, std::function<double(double)>>> loads;
+  std::vector<SineLoad> loads;
 };
 
 /// The two partitions of a ChainModel, their roles and the overlap.
@@ -110,41 +123,5 @@ MetamaterialStability metamaterial_stability();
 /// (7.68e-5 s whole chain; 8.0e-5 s DEM partition alone): what `strata check` reports for
 /// the paper's dt_DEM = 1e-4 s, which is unstable for any explicit scheme.
 void check_metamaterial_dt(double dt_dem, bool allow_unstable = false);
-
-// ---- sweeps -------------------------------------------------------------------------
-
-/// One run of a sweep: error against the exact/reference answer and wall time.
-struct SweepRow {
-  std::string case_name;
-  int eta = 1;
-  std::string mode;  ///< serial / parallel / monolithic
-  double dt_dem = 0, dt_fem = 0;
-  std::int64_t dem_steps = 0, fem_steps = 0;
-  double err_max = 0;               ///< max |u − u_ref| over the run (m)
-  double err_rms = 0;               ///< RMS of u − u_ref over the samples (m)
-  double ref_max = 0;               ///< max |u_ref| (m): divide for relative errors
-  double wall_s = 0;                ///< wall time of the coupled run (initialise + steps), best of `repeats`
-  std::string probe;                ///< what was compared
-  std::vector<double> t, u, u_ref;  ///< the samples (kept for plots)
-};
-
-struct SweepOptions {
-  std::vector<int> etas{1, 2, 3, 4, 5, 10, 20};
-  std::vector<Execution> modes{Execution::Serial, Execution::Parallel};
-  double dt_dem = 0;    ///< 0: case default (chain6 1e-4 s; metamaterial 5e-5 s)
-  double duration = 0;  ///< 0: case default (chain6 20 s; metamaterial 75 ms)
-  fem::Scheme fem_scheme = fem::Scheme::ExplicitNewmark;  ///< chain6 default; metamaterial forces implicit
-                                                          ///< for η·dt above the limit
-  double dt_ref = 1e-6;                                   ///< metamaterial reference step (implicit Newmark)
-  int repeats = 1;                                        ///< runs per point; the fastest is kept
-  bool keep_samples = false;
-  MetamaterialParams pulse;
-};
-
-std::vector<SweepRow> sweep_chain6(const SweepOptions& o);
-std::vector<SweepRow> sweep_metamaterial(const SweepOptions& o);
-
-/// Markdown table (η, mode, dt_DEM, dt_FEM, steps, max error, RMS error, relative max, wall time).
-std::string sweep_markdown(const std::vector<SweepRow>& rows);
 
 }  // namespace strata::couple

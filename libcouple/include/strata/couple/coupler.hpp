@@ -95,7 +95,8 @@ class Coupler {
   /// values its side computes).
   Coupler(Partition& fem, Partition& dem, Overlap overlap, int eta, Execution mode = Execution::Serial);
 
-  /// Records displacement of a DOF after every step of its partition (and at t = 0).
+  /// Records displacement of a DOF after every step of its partition, and at t = 0 (or now,
+  /// when the coupler is already initialised).
   void probe_fem(std::size_t dof, std::string name);
   void probe_dem(std::size_t dof, std::string name);
   /// Calls `f(partition)` after every step of that partition (and once at t = 0, after

@@ -7,6 +7,7 @@
 /// (the same bound libdem uses, 2·λmax(Σ K_b)/m); for a uniform chain ω = 2√(k/m).
 /// Same rules as the DEM: dt above it is refused (Input) unless allow_unstable; blow-up
 /// (non-finite state or energy above 10·(E0 + Σ|work|)) stops with a Numerical error.
+#include <strata/core/state_io.hpp>
 #include <strata/couple/partition.hpp>
 
 #include <cstdint>
@@ -40,6 +41,8 @@ class SpringNetworkPartition final : public Partition {
   SpringNetworkPartition(SpringNetwork net, double dt, std::string name = "DEM", bool allow_unstable = false);
 
   void add_load(std::size_t d, std::function<double(double)> f);
+  /// Changes the time step before initialise() (a model whose step follows from its limits).
+  void set_dt(double dt);
 
   std::string name() const override { return name_; }
   std::string integrator() const override { return "velocity Verlet"; }
@@ -61,6 +64,21 @@ class SpringNetworkPartition final : public Partition {
   /// ω_max of the network with external DOFs held, from Lanczos (reporting).
   double omega_max_exact() const;
   double energy() const;
+  /// Work of the loads so far, with its sign (J): what an energy balance of a coupled model
+  /// counts as input (the work passed through the external DOFs is left out).
+  double load_work() const { return load_work_; }
+  /// Steps done, and the last step that passed the blow-up check (0 before the first).
+  std::int64_t steps_done() const { return step_; }
+  std::int64_t last_good_step() const { return last_good_; }
+  /// The nodal displacements and velocities (external DOFs hold their copied values).
+  const std::vector<double>& u() const { return u_; }
+  const std::vector<double>& v() const { return v_; }
+  /// Writes the state a continued run needs (time, step, u, v, a, forces, the external DOFs'
+  /// copied values and the work and energy bookkeeping) under `prefix`.
+  void save_state(StateWriter& out, const std::string& prefix) const;
+  /// Restores a state written by save_state on a partition built and initialised the same
+  /// way; the run then continues bit for bit. Throws strata::Error (IO) on a size mismatch.
+  void load_state(const StateReader& in, const std::string& prefix);
 
  private:
   void forces(double t);
@@ -81,7 +99,7 @@ class SpringNetworkPartition final : public Partition {
   };
   std::vector<Load> loads_;
   std::vector<double> ext_f_prev_, ext_u_prev_;
-  double time_ = 0, energy0_ = 0, work_abs_ = 0;
+  double time_ = 0, energy0_ = 0, work_abs_ = 0, load_work_ = 0;
   std::int64_t step_ = 0, last_good_ = 0;
   bool initialised_ = false;
 };

@@ -326,6 +326,19 @@ struct CoupledTable {
   Located<std::int64_t> threads;  ///< optional: the default depends on the case
 };
 
+/// [network]: point masses and springs with one degree of freedom per node, split into an
+/// FEM part and a particle part that share one layer of nodes.
+struct NetworkTable {
+  SourcePos pos;
+  Located<std::string> title;
+  Located<std::vector<double>> mass;                  ///< kg per node
+  Located<std::vector<std::vector<double>>> springs;  ///< rows [i, j, k (N/m)]
+  Located<std::vector<std::vector<double>>> walls;    ///< rows [i, k (N/m)]
+  Located<std::vector<std::int64_t>> fem_nodes, particle_nodes;
+  Located<std::vector<std::vector<double>>> sine_loads;  ///< rows [i, P (N), period (s), end (s)]
+  Located<std::vector<std::int64_t>> probe_nodes;
+};
+
 /// [calibrate]: targets and lattice of `strata calibrate`.
 struct CalibrateTable {
   SourcePos pos;

@@ -7,6 +7,7 @@
 #include <strata/couple/coupler.hpp>
 #include <strata/couple/dem_partition.hpp>
 #include <strata/couple/fem_partition.hpp>
+#include <strata/couple/spring_partition.hpp>
 #include <strata/dem/simulation.hpp>
 #include <strata/preprocess/ecc.hpp>
 #include <strata/preprocess/lattice.hpp>
@@ -167,6 +168,9 @@ struct BuiltModel {
 
   bool has_particles() const { return dem_ != nullptr || dem_partition_ != nullptr; }
   bool has_fem() const { return fem_partition_ != nullptr; }
+  /// A network scene ([network]): its particle part is a spring network (network()), its FEM
+  /// part spring elements; it has no particles and no FEM regions.
+  bool has_network() const { return network_ != nullptr; }
   bool coupled() const { return coupler_ != nullptr; }
   /// The particles (has_particles()).
   dem::Simulation& sim();
@@ -175,6 +179,18 @@ struct BuiltModel {
   /// every DEM step.
   couple::Coupler& coupler();
   const couple::Coupler& coupler() const;
+  /// The particle part of a network scene (has_network()).
+  couple::SpringNetworkPartition& network();
+  const couple::SpringNetworkPartition& network() const;
+  /// A probe node of a network scene, read on the part that computes it.
+  struct NetworkProbe {
+    std::int64_t node = 0;
+    bool fem = false;     ///< read on the FEM part (else on the particle part)
+    std::size_t dof = 0;  ///< its degree of freedom there
+  };
+  std::vector<NetworkProbe> network_probes;
+  /// Displacement and velocity of a probe node now.
+  std::pair<double, double> network_probe(const NetworkProbe& p) const;
   /// The FEM solver (has_fem()).
   fem::Solver& fem();
   const fem::Solver& fem() const;
@@ -212,6 +228,7 @@ struct BuiltModel {
   std::unique_ptr<dem::Simulation> dem_;
   std::unique_ptr<couple::DemPartition> dem_partition_;
   std::unique_ptr<couple::FemPartition> fem_partition_;
+  std::unique_ptr<couple::SpringNetworkPartition> network_;
   std::unique_ptr<couple::Coupler> coupler_;
 };
 

@@ -105,6 +105,9 @@ class Scene {
   /// A calibration (`strata calibrate`) has a [calibrate] table, which describes the targets and
   /// the lattice; of the other tables it may hold only [scene] and output.directory/render.
   std::optional<CalibrateTable> calibrate;
+  /// A network scene has a [network] table, which describes the whole model; of the other
+  /// tables it may hold only [solver] and some [output] keys.
+  std::optional<NetworkTable> network;
 
   /// A hash of every value but those of [output] and solver.steps, solver.duration and
   /// solver.threads (and of the contents of the files the scene names): a checkpoint
