@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <strata/cases/chain_report.hpp>
+#include <strata/cases/study.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
@@ -71,6 +72,12 @@ void print_model(const json& j) {
                     text(e["along_cube_axis"], "Pa").c_str());
     }
   }
+  for (const auto& r : j["regions"])
+    if (r.contains("eccentric"))
+      std::printf("eccentric    %-14s %zu bonds, %zu weakened (longer than Rc x L_max), L_max = %.4g m\n",
+                  r["name"].get<std::string>().c_str(), r["eccentric"]["bonds"].get<std::size_t>(),
+                  r["eccentric"]["weakened_bonds"].get<std::size_t>(),
+                  r["eccentric"]["l_max_m"].get<double>());
   for (const auto& [name, n] : j["groups"].items())
     std::printf("group        %-14s %zu particles\n", name.c_str(), n.get<std::size_t>());
   std::printf("particles    %zu\nbonds        %zu\nFEM          %zu nodes, %zu elements\n",
@@ -139,11 +146,30 @@ class TerminalObserver final : public scene::RunObserver {
   std::optional<Progress> progress_, settle_;
 };
 
+/// Shows a study on the terminal: one progress line over its runs; stops on SIGINT or SIGTERM.
+class StudyTerminal final : public cases::StudyObserver {
+ public:
+  void started(std::size_t runs) override { progress_.emplace("study", std::int64_t(runs), "runs", 2.0); }
+  void done(std::size_t run, const cases::StudyPoint& p) override {
+    if (p.status != "completed") log::warn("run {}: {}", run + 1, p.status);
+    progress_->update(std::int64_t(run + 1));
+  }
+  int stop_requested() override { return StopSignals::received(); }
+
+ private:
+  std::optional<Progress> progress_;
+};
+
 }  // namespace
 
 int check_scene(const SceneOptions& opt, bool json_out) {
   const scene::Scene sc = load_scene(opt);
   if (sc.coupled) return cases::check_coupled_scene(scene::require_build_parts(sc), json_out, opt.force);
+  if (sc.study) {
+    STRATA_CHECK(!json_out, Input, "--json: {} is a study ([study]); its check prints text",
+                 sc.file.string());
+    return cases::check_study_scene(sc);
+  }
   if (sc.calibrate) {
     STRATA_CHECK(!json_out, Input, "--json: {} is a calibration ([calibrate]); its check prints text",
                  sc.file.string());
@@ -168,6 +194,8 @@ int mesh_scene(const SceneOptions& opt, bool json_out) {
       !sc.calibrate, Input,
       "{}: a calibration ([calibrate]) builds its own specimens; use 'strata calibrate' (or 'strata run')",
       sc.file.string());
+  STRATA_CHECK(!sc.study, Input, "{}: a study ([study]) runs the scene it names; mesh that scene instead",
+               sc.file.string());
   const json j = scene::mesh_report(sc, opt.output);
   if (json_out) {
     std::printf("%s\n", j.dump(2).c_str());
@@ -207,6 +235,13 @@ int run_scene(const SceneOptions& opt) {
                  "--restart: {} is a coupled-chain scene ([coupled]); its sweep has no checkpoints",
                  sc.file.string());
     return cases::run_coupled_scene(scene::require_build_parts(sc), opt.output, opt.force, opt.threads);
+  }
+  if (sc.study) {  // its runs, then its tables and plots, all at once
+    STRATA_CHECK(opt.restart.empty(), Input, "--restart: {} is a study ([study]); it has no checkpoints",
+                 sc.file.string());
+    StudyTerminal observer;
+    const StopSignals stop;
+    return cases::run_study_scene(sc, opt.output, observer);
   }
   if (sc.calibrate) {  // a calibration: its specimen runs, then its table
     STRATA_CHECK(opt.restart.empty(), Input,

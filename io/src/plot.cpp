@@ -127,6 +127,29 @@ void plot_xy(const PlotRequest& rq) {
     if (xs->GetNumberOfTuples() == 0) continue;
     const auto* c = kPalette[k % std::size(kPalette)];
     const float width = std::max(2.0f, rq.height / 400.0f);
+    STRATA_CHECK(ps.y_err.empty() || ps.y_err.size() == ps.y.size(), Input,
+                 "plot_xy({}): series '{}' has {} error values for {} points", rq.png.string(), ps.name,
+                 ps.y_err.size(), ps.y.size());
+    for (std::size_t i = 0; i < ps.y_err.size(); ++i) {
+      const double x = ps.x[i], lo = ps.y[i] - ps.y_err[i], hi = ps.y[i] + ps.y_err[i];
+      if (!(ps.y_err[i] > 0) || !std::isfinite(x) || !std::isfinite(lo) || !std::isfinite(hi) ||
+          (rq.log_x && x <= 0) || (rq.log_y && lo <= 0))
+        continue;
+      vtkNew<vtkDoubleArray> bx, by;
+      bx->SetName("x");
+      by->SetName("bar");
+      for (const double y : {lo, hi}) bx->InsertNextValue(x), by->InsertNextValue(y);
+      auto bar = vtkSmartPointer<vtkTable>::New();
+      bar->AddColumn(bx);
+      bar->AddColumn(by);
+      tables.push_back(bar);
+      vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+      line->SetInputData(bar, 0, 1);
+      line->SetColor(c[0], c[1], c[2], 255);
+      line->SetWidth(0.6f * width);
+      line->LegendVisibilityOff();
+      ylo = std::min(ylo, lo), yhi = std::max(yhi, hi);
+    }
     if (ps.line) {
       vtkPlot* line = chart->AddPlot(vtkChart::LINE);
       line->SetInputData(table, 0, 1);

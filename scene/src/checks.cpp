@@ -204,9 +204,52 @@ class KeyChecks {
                    key));
   }
 
+  /// Checks between the keys of a study: [[vary]] keys named once, `spread` and `x` naming
+  /// them, at least one [[vary]] and one [[measure]], JSON pointers that start with '/'.
+  void check_study(const Tables& scene) {
+    const Table& s = scene.table("study");
+    const auto& vary = scene.tables("vary");
+    const auto& measures = scene.tables("measure");
+    if (vary.empty()) report(s.where(), "a study needs at least one [[vary]] (a key and its values)");
+    if (measures.empty())
+      report(s.where(), "a study needs at least one [[measure]] (a number of summary.json)");
+    std::vector<std::string> keys;
+    for (const Table& v : vary) {
+      const std::string& k = v.str("key");
+      if (std::find(keys.begin(), keys.end(), k) != keys.end())
+        report(v.where("key"), fmt::format("[[vary]] key '{}' is varied twice", k));
+      if (k.find('=') != std::string::npos)
+        report(v.where("key"),
+               fmt::format("[[vary]] key '{}': write the key alone; its values go in values", k));
+      keys.push_back(k);
+    }
+    for (const std::string role : {"spread", "x"}) {
+      const std::string& k = s.str(role);
+      if (!k.empty() && std::find(keys.begin(), keys.end(), k) == keys.end())
+        report(s.where(role), fmt::format("study.{} = \"{}\" is not a [[vary]] key (varied: {})", role, k,
+                                          keys.empty() ? std::string("none") : join(keys)));
+    }
+    if (!s.str("x").empty() && s.str("x") == s.str("spread"))
+      report(s.where("x"), "study.x and study.spread name the same key; the spread is taken over it");
+    unique_names(scene, "measure");
+    for (const Table& m : measures)
+      for (const std::string key : {"value", "divide_by"}) {
+        const std::string& p = m.str(key);
+        if ((key == "value" || !p.empty()) && (p.empty() || p[0] != '/'))
+          report(m.where(key), fmt::format("{} = \"{}\" is not a JSON pointer into summary.json; allowed: a "
+                                           "path such as \"/measured_elastic/poisson_ratio\"",
+                                           key, p));
+      }
+  }
+
   void run(const Tables& scene) {
     if (scene.coupled()) return check_coupled(scene);
     if (scene.network()) return check_network(scene);
+    if (scene.study()) return check_study(scene);
+    for (const std::string table : {"vary", "measure"})
+      if (!scene.tables(table).empty())
+        report(scene.tables(table).front().where(),
+               fmt::format("[[{}]] belongs to a study file ([study]), which names the scene it runs", table));
     if (scene.calibration()) return check_calibrate(scene);
     const int dim = static_cast<int>(scene.table("scene").integer("dimension"));
     const auto materials = unique_names(scene, "material");

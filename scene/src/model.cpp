@@ -375,6 +375,9 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
       o.seed = std::uint64_t(st.seed.value) + d.regions.size();  // one stream per region
       preprocess::EccLattice e = preprocess::make_eccentric(f.lattice(), o);
       s.eccentric = info.eccentric = true;
+      info.bonds = e.bonds.size();
+      info.weakened_bonds = e.bonds.weakened();
+      info.longest_bond = e.bonds.max_length;
       s.sites = std::move(e.lattice);
       s.bonds = std::move(e.bonds);
       d.bonds_across_regions = false;

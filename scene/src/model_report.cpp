@@ -55,6 +55,9 @@ json model_counts_json(const Scene& sc, int dim, const std::vector<RegionInfo>& 
                    {"packing_density", r.packing}};
     for (const auto& mat : sc.materials)
       if (mat.name.value == r.material) region["lattice_elastic"] = lattice_elastic_json(mat, dim, r);
+    if (r.eccentric)
+      region["eccentric"] = {
+          {"bonds", r.bonds}, {"weakened_bonds", r.weakened_bonds}, {"l_max_m", r.longest_bond}};
     regions.push_back(std::move(region));
   }
   json groups = json::object();

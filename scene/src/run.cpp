@@ -211,7 +211,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
   }
   const double run_seconds = seconds_since(t0);
   // A checkpoint at the end lets a later `--restart` (with more steps) continue the run.
-  if (STRATA_WITH_HDF5) {
+  if (STRATA_WITH_HDF5 && opt.final_checkpoint) {
     result.checkpoint = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
     out.add_written(result.checkpoint);
   }

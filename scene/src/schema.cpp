@@ -18,7 +18,8 @@ std::vector<TableSpec> make_schema() {
   using namespace tables;
   return {scene_spec(),   material_spec(), region_spec(),   group_spec(),  boundary_spec(),
           load_spec(),    wall_spec(),     solver_spec(),   output_spec(), probe_spec(),
-          network_spec(), coupled_spec(),  calibrate_spec()};
+          network_spec(), coupled_spec(),  calibrate_spec(), study_spec(),  vary_spec(),
+          measure_spec()};
 }
 
 }  // namespace
@@ -40,6 +41,11 @@ const std::vector<JobTable>& job_tables() {
        {"directory", "probe_every", "checkpoint_every", "render"},
        "a network scene",
        "describes the whole model in [network]"},
+      {"study",
+       {"vary", "measure", "output"},
+       {"directory", "render"},
+       "a study",
+       "runs the scene it names over the values of its [[vary]] keys"},
       {"calibrate",
        {"scene", "output"},
        {"directory", "render"},

@@ -77,6 +77,7 @@ struct Tables {
   bool coupled() const { return !tables("coupled").empty(); }
   bool calibration() const { return !tables("calibrate").empty(); }
   bool network() const { return !tables("network").empty(); }
+  bool study() const { return !tables("study").empty(); }
 };
 
 /// Reports one problem of a scene at a position (the loader throws the first in file order).

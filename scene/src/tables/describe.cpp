@@ -53,6 +53,9 @@ void describe(const Tables& t, Scene& sc) {
   if (t.coupled()) sc.coupled = read_coupled(t.table("coupled"));
   if (t.calibration()) sc.calibrate = read_calibrate(t.table("calibrate"));
   if (t.network()) sc.network = read_network(t.table("network"));
+  if (t.study()) sc.study = read_study(t.table("study"));
+  sc.vary = read_all(t, "vary", read_vary);
+  sc.measures = read_all(t, "measure", read_measure);
   sc.fingerprint = fingerprint_of(t);
 }
 

@@ -242,4 +242,11 @@ CalibrateTable read_calibrate(const Table& t);
 TableSpec network_spec();
 NetworkTable read_network(const Table& t);
 
+TableSpec study_spec();
+StudyTable read_study(const Table& t);
+TableSpec vary_spec();
+VaryTable read_vary(const Table& t);
+TableSpec measure_spec();
+MeasureTable read_measure(const Table& t);
+
 }  // namespace strata::scene::tables

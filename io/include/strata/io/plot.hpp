@@ -15,6 +15,9 @@ struct PlotSeries {
   std::vector<double> y;
   bool markers = false;  ///< draw points as well as (or, with `line` false, instead of) the line
   bool line = true;
+  /// Empty, or one value per point: a vertical bar from y − e to y + e (e.g. a standard
+  /// deviation), in the series' colour.
+  std::vector<double> y_err{};
 };
 
 struct PlotRequest {

@@ -339,6 +339,33 @@ struct NetworkTable {
   Located<std::vector<std::int64_t>> probe_nodes;
 };
 
+/// [study]: a scene run over the combinations of its [[vary]] values.
+struct StudyTable {
+  SourcePos pos;
+  Located<std::string> title;
+  Located<std::filesystem::path> scene;   ///< the scene to run
+  Located<std::vector<std::string>> set;  ///< overrides of every run ("key=value")
+  Located<std::string> spread;            ///< a [[vary]] key: mean and spread over it; "" none
+  Located<std::string> x;                 ///< a [[vary]] key: the plots' abscissa; "" the first
+};
+
+/// [[vary]]: one key of a study's scene and its values.
+struct VaryTable {
+  SourcePos pos;
+  Located<std::string> key;  ///< as `--set` names it
+  Located<std::vector<double>> values;
+  Located<std::int64_t> components;  ///< 0: a number; 2, 3: the list [v, v(, v)]
+  Located<std::string> label;
+};
+
+/// [[measure]]: one number of each run's summary.json.
+struct MeasureTable {
+  SourcePos pos;
+  Located<std::string> name;
+  Located<std::string> value;      ///< JSON pointer
+  Located<std::string> divide_by;  ///< JSON pointer, or ""
+};
+
 /// [calibrate]: targets and lattice of `strata calibrate`.
 struct CalibrateTable {
   SourcePos pos;

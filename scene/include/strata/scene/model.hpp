@@ -33,6 +33,10 @@ struct RegionInfo {
   double packing = 0;      ///< particle area/volume over the shape's
   std::string material;    ///< its [[material]]
   bool eccentric = false;  ///< centroids offset (the regular lattice's elastic constants do not hold)
+  /// Eccentric regions: the bonds (the regular lattice's pairs), those weakened by γ (longer
+  /// than Rc·L_max) and L_max, the longest bond (m).
+  std::size_t bonds = 0, weakened_bonds = 0;
+  double longest_bond = 0;
 };
 
 /// The particles of one region as filled: sites in id order (ids first_id, first_id + 1,

@@ -25,6 +25,9 @@ struct RunOptions {
   std::filesystem::path output;   ///< empty: the scene's output.directory
   bool force = false;             ///< run even when dt > dt_crit
   std::filesystem::path restart;  ///< a checkpoint to continue from (empty: a fresh run)
+  /// Write a checkpoint at the end of a completed run (for a later `--restart` with more
+  /// steps); a study of many runs that keeps only their summaries turns it off.
+  bool final_checkpoint = true;
 };
 
 /// How a run ended.

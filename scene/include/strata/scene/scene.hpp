@@ -108,6 +108,11 @@ class Scene {
   /// A network scene has a [network] table, which describes the whole model; of the other
   /// tables it may hold only [solver] and some [output] keys.
   std::optional<NetworkTable> network;
+  /// A study has a [study] table, [[vary]] and [[measure]] entries and, of the other tables,
+  /// only output.directory and output.render.
+  std::optional<StudyTable> study;
+  std::vector<VaryTable> vary;
+  std::vector<MeasureTable> measures;
 
   /// A hash of every value but those of [output] and solver.steps, solver.duration and
   /// solver.threads (and of the contents of the files the scene names): a checkpoint
