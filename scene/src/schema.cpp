@@ -16,10 +16,9 @@ namespace {
 
 std::vector<TableSpec> make_schema() {
   using namespace tables;
-  return {scene_spec(),   material_spec(), region_spec(),   group_spec(),  boundary_spec(),
-          load_spec(),    wall_spec(),     solver_spec(),   output_spec(), probe_spec(),
-          network_spec(), coupled_spec(),  calibrate_spec(), study_spec(),  vary_spec(),
-          measure_spec()};
+  return {scene_spec(),     material_spec(), region_spec(), group_spec(),  boundary_spec(), load_spec(),
+          wall_spec(),      solver_spec(),   output_spec(), probe_spec(),  network_spec(),  coupled_spec(),
+          calibrate_spec(), study_spec(),    vary_spec(),   measure_spec()};
 }
 
 }  // namespace

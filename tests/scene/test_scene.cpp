@@ -352,13 +352,13 @@ TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
   EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
             "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
             "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], "
-            "[network], [coupled], [calibrate])");
+            "[network], [coupled], [calibrate], [study], [[vary]], [[measure]])");
   EXPECT_EQ(
       error_of(edit("[[group]]", "[[groups]]")),
       "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
       "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [network], "
       "[coupled], "
-      "[calibrate])");
+      "[calibrate], [study], [[vary]], [[measure]])");
 }
 
 TEST(SceneErrors, TableWrittenWithTheWrongBrackets) {
@@ -551,7 +551,7 @@ TEST(SceneOverrides, ErrorsPointAtTheOverride) {
       "--set solvr.dt=1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
       "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [network], "
       "[coupled], "
-      "[calibrate])");
+      "[calibrate], [study], [[vary]], [[measure]])");
   EXPECT_EQ(
       error_of(kBase, {"output.render_field=dmage"}),
       "--set output.render_field=dmage: render_field = \"dmage\" must be one of displacement, velocity, "
