@@ -92,7 +92,7 @@ TEST(EccBonds, StiffnessFactorScalesTimeByItsSquareRoot) {
 // thousandfold. Two particles moving apart along such a bond have λ = 2·kn/m by themselves, so
 // the critical step is at most √(2m/kn) whatever the iteration finds (measured here: 4.48e-9 s
 // against 5.51e-9 s), and a run at 0.9 of it holds every particle's oscillation without a
-// blow-up. (The scene test SceneCriticalStep.StiffPairsInASoftNetworkFallBackToTheBound has a
+// blow-up. (The scene test SceneCriticalStep.StiffPairsInASoftNetworkBoundTheStep has a
 // block where the iteration misses those pairs.)
 TEST(EccBonds, StiffPairsInASoftNetworkSetTheStep) {
   const auto lat =
