@@ -69,6 +69,14 @@ scene::Scene scene_of(const scene::Scene& st, const StudyPlan& plan, std::size_t
   }
 }
 
+/// Every run's scene, read once before anything runs (a bad key or value is refused here).
+std::vector<scene::Scene> scenes_of(const scene::Scene& st, const StudyPlan& plan) {
+  std::vector<scene::Scene> scenes;
+  scenes.reserve(plan.overrides.size());
+  for (std::size_t k = 0; k < plan.overrides.size(); ++k) scenes.push_back(scene_of(st, plan, k));
+  return scenes;
+}
+
 /// The number at JSON pointer `ptr` of `j`, or NaN.
 double number_at(const json& j, const std::string& ptr) {
   try {
@@ -288,9 +296,9 @@ int check_study_scene(const scene::Scene& st) {
   for (const auto& m : st.measures)
     std::printf("measure      %-24s %s%s\n", m.name.value.c_str(), m.value.value.c_str(),
                 m.divide_by->empty() ? "" : (" / " + m.divide_by.value).c_str());
-  for (std::size_t k = 0; k < plan.overrides.size(); ++k) (void)scene_of(st, plan, k);
+  const std::vector<scene::Scene> scenes = scenes_of(st, plan);
   for (const std::size_t k : {std::size_t(0), plan.overrides.size() - 1}) {
-    const scene::Scene sc = scene_of(st, plan, k);
+    const scene::Scene& sc = scenes[k];
     const scene::BuiltModel m = st.study->scene.blame([&] { return scene::build_model(sc, false); });
     std::printf("run %-8zu %s: %zu particles, dt = %.4g s (dt/dt_crit = %.3f), %lld steps\n", k + 1,
                 fmt::format("{}", fmt::join(plan.overrides[k], " ")).c_str(),
@@ -303,7 +311,7 @@ int check_study_scene(const scene::Scene& st) {
 
 int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserver& observer) {
   const StudyPlan plan = plan_study(st);
-  for (std::size_t k = 0; k < plan.overrides.size(); ++k) (void)scene_of(st, plan, k);  // every scene valid
+  const std::vector<scene::Scene> scenes = scenes_of(st, plan);
   const fs::path out = output.empty() ? st.output.directory.value : output;
   const auto t0 = std::chrono::steady_clock::now();
   scene::Staging stage(out);
@@ -315,7 +323,7 @@ int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserve
     StudyPoint p;
     p.values = plan.values[k];
     p.measures.assign(st.measures.size(), kNaN);
-    const scene::Scene sc = scene_of(st, plan, k);
+    const scene::Scene& sc = scenes[k];
     const auto r0 = std::chrono::steady_clock::now();
     try {
       scene::Run run(sc, {stage.path() / "runs" / fmt::format("{:04d}", k + 1), false, {}, false});

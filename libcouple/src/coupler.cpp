@@ -240,31 +240,31 @@ void Coupler::exchange() {
   to_fem_.scatter(fem_, buf_fem_);
 }
 
+namespace {
+/// One sample of a probe: the partition's time and the DOF's displacement.
+void sample(ProbeHistory& h, const Partition& p, std::size_t dof) {
+  h.t.push_back(p.time());
+  h.u.push_back(p.displacement(dof));
+}
+}  // namespace
+
 void Coupler::probe_fem(std::size_t dof, std::string name) {
   fem_probe_dofs_.push_back(dof);
   fem_hist_.push_back({std::move(name), {}, {}});
-  if (initialised_)
-    fem_hist_.back().t.push_back(fem_.time()), fem_hist_.back().u.push_back(fem_.displacement(dof));
+  if (initialised_) sample(fem_hist_.back(), fem_, dof);
 }
 void Coupler::probe_dem(std::size_t dof, std::string name) {
   dem_probe_dofs_.push_back(dof);
   dem_hist_.push_back({std::move(name), {}, {}});
-  if (initialised_)
-    dem_hist_.back().t.push_back(dem_.time()), dem_hist_.back().u.push_back(dem_.displacement(dof));
+  if (initialised_) sample(dem_hist_.back(), dem_, dof);
 }
 
 void Coupler::record_fem() {
-  for (std::size_t k = 0; k < fem_probe_dofs_.size(); ++k) {
-    fem_hist_[k].t.push_back(fem_.time());
-    fem_hist_[k].u.push_back(fem_.displacement(fem_probe_dofs_[k]));
-  }
+  for (std::size_t k = 0; k < fem_probe_dofs_.size(); ++k) sample(fem_hist_[k], fem_, fem_probe_dofs_[k]);
   for (const Observer& f : fem_obs_) f(fem_);
 }
 void Coupler::record_dem() {
-  for (std::size_t k = 0; k < dem_probe_dofs_.size(); ++k) {
-    dem_hist_[k].t.push_back(dem_.time());
-    dem_hist_[k].u.push_back(dem_.displacement(dem_probe_dofs_[k]));
-  }
+  for (std::size_t k = 0; k < dem_probe_dofs_.size(); ++k) sample(dem_hist_[k], dem_, dem_probe_dofs_[k]);
   for (const Observer& f : dem_obs_) f(dem_);
 }
 

@@ -41,7 +41,8 @@ class RunOutput {
         title_(sc.network ? sc.network->title.value : sc.scene.title.value),
         particles_on_(m.has_particles()),
         fem_on_(m.has_fem() && !m.has_network()),
-        network_on_(m.has_network()) {
+        network_on_(m.has_network()),
+        fem_energies_on_(m.has_fem()) {
     if (particles_on_) group_names_ = m.sim().group_names();
     const auto mode = resume ? io::Series::Mode::Resume : io::Series::Mode::Fresh;
     if (particles_on_) {
@@ -57,7 +58,7 @@ class RunOutput {
       cols.insert(cols.end(), {"kinetic_energy", "bond_energy", "external_work", "damping_dissipation",
                                "broken_tension", "broken_shear", "contacts"});
     if (network_on_) cols.insert(cols.end(), {"particle_energy", "particle_load_work"});
-    if (fem_on_ || network_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
+    if (fem_energies_on_) cols.insert(cols.end(), {"fem_kinetic_energy", "fem_strain_energy"});
     for (const auto& p : m.network_probes)
       cols.insert(cols.end(), {fmt::format("node{}_u", p.node), fmt::format("node{}_v", p.node)});
     // [probe] wedge_group and wedge_friction: checked with the scene (a 2D group, basal < internal)
@@ -85,7 +86,7 @@ class RunOutput {
       work_ = resume->get<double>("driver/probes/external_work", time_.size());
     }
     if (network_on_) network_ = resume->get<double>("driver/probes/network_energy", time_.size());
-    if (fem_on_ || network_on_) {
+    if (fem_energies_on_) {
       fem_kinetic_ = resume->get<double>("driver/probes/fem_kinetic_energy", time_.size());
       fem_strain_ = resume->get<double>("driver/probes/fem_strain_energy", time_.size());
     }
@@ -104,7 +105,7 @@ class RunOutput {
       w.put("driver/probes/external_work", work_);
     }
     if (network_on_) w.put("driver/probes/network_energy", network_);
-    if (fem_on_ || network_on_) {
+    if (fem_energies_on_) {
       w.put("driver/probes/fem_kinetic_energy", fem_kinetic_);
       w.put("driver/probes/fem_strain_energy", fem_strain_);
     }
@@ -187,11 +188,11 @@ class RunOutput {
       work_.push_back(s.external_work());
     }
     if (network_on_) {
-      const auto& n = m.network();
-      row.insert(row.end(), {n.energy(), n.load_work()});
-      network_.push_back(n.energy());
+      const double e = m.network().energy();
+      row.insert(row.end(), {e, m.network().load_work()});
+      network_.push_back(e);
     }
-    if (fem_on_ || network_on_) {
+    if (fem_energies_on_) {
       const auto& f = m.fem();
       row.insert(row.end(), {f.kinetic_energy(), f.strain_energy()});
       fem_kinetic_.push_back(f.kinetic_energy());
@@ -481,7 +482,7 @@ class RunOutput {
         p.series.push_back({"work of external forces", time_, work_});
       }
       if (network_on_) p.series.push_back({"kinetic + spring (particle part)", time_, network_});
-      if (fem_on_ || network_on_) {
+      if (fem_energies_on_) {
         p.series.push_back({"kinetic (FEM)", time_, fem_kinetic_});
         p.series.push_back({"strain (FEM)", time_, fem_strain_});
       }
@@ -544,7 +545,9 @@ class RunOutput {
   std::vector<double> wedge_friction_;    ///< internal, basal; empty: no critical taper
   FrameSelection selection_;
   bool rendered_while_running_ = false;
-  bool particles_on_ = false, fem_on_ = false, network_on_ = false;
+  /// fem_on_: FEM regions (series, frames, pictures); network_on_: a network scene;
+  /// fem_energies_on_: an FEM part of either (its energies in the probes).
+  bool particles_on_ = false, fem_on_ = false, network_on_ = false, fem_energies_on_ = false;
   std::optional<io::Series> particles_, bonds_, fem_, walls_;  // walls_ only when there are walls
   std::optional<io::CsvWriter> probes_;
   std::vector<double> time_, kinetic_, bond_, work_, fem_kinetic_, fem_strain_, network_, strain_, stress_,
