@@ -200,7 +200,7 @@ void Model<D>::compute_critical_dt() {
   S.clear();
   S.shrink_to_fit();
   const double kmax = max_stiffness();
-  const double imax = *std::max_element(im.begin(), im.end());
+  const double imax = im.max();
   // contacts may form later: a particle touching z neighbours (6 in 2D, 12 in 3D)
   // through contacts of stiffness <= kmax has λ <= 2·z·kmax/m (same bound)
   const double contact_bound = contacts_on ? 2.0 * (D == 2 ? 6 : 12) * kmax * imax : 0.0;

@@ -47,8 +47,6 @@ void Model<D>::reserve(std::size_t cap) {
     x[a].reserve(cap);
     v[a].reserve(cap);
   }
-  im.reserve(cap);
-  rad.reserve(cap);
   id.reserve(cap);
   grp.reserve(cap);
   mat.reserve(cap);
@@ -83,7 +81,6 @@ std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, dou
   if (initialised) {
     for (int a = 0; a < D; ++a) {
       x0[a].push_back(p[a]);
-      f[a].push_back(0.0);
     }
     acc.resize(static_cast<std::size_t>((n() + kBlock - 1) / kBlock));
     plan_dirty = true;
@@ -195,8 +192,8 @@ void Model<D>::sort_particles() {
     permute(x[a], perm);
     permute(v[a], perm);
   }
-  permute(im, perm);
-  permute(rad, perm);
+  im.permute(perm);
+  rad.permute(perm);
   permute(id, perm);
   permute(grp, perm);
   permute(mat, perm);
@@ -279,23 +276,26 @@ std::vector<float> Model<D>::damage() const {
 template <int D>
 std::size_t Model<D>::memory_bytes() const {
   std::size_t b = 0;
-  for (int a = 0; a < D; ++a)
-    b += (x[a].capacity() + v[a].capacity() + x0[a].capacity() + f[a].capacity()) * sizeof(double);
-  b += (im.capacity() + rad.capacity()) * sizeof(double);
+  for (int a = 0; a < D; ++a) b += (x[a].capacity() + v[a].capacity() + x0[a].capacity()) * sizeof(double);
+  b += im.bytes() + rad.bytes();
   b += (id.capacity() + grp.capacity()) * 4 + mat.capacity() + flags.capacity();
   b += bonds.bytes() + contacts.bytes();
   b += bcp.capacity() * sizeof(BcParticle) + acc.capacity() * sizeof(BlockAcc);
   b += (cross_b.capacity() + cross_c.capacity()) * sizeof(double);
-  b += bond_owner.capacity();
+  b += bond_owner.capacity() + pend_slot.capacity() * 4;
+  for (const PendingPool& P : pend)
+    b += (P.ring.capacity() + P.buf.capacity()) * sizeof(double) + P.spare.capacity() * 4;
   b += events.capacity() * sizeof(BreakEvent);
   return b;
 }
 
 template <int D>
 std::size_t Model<D>::streamed_bytes_per_step() const {
-  // per particle: positions, velocities and forces read and written; inverse mass and radius
-  // read; the flags byte and both pair lists' offsets read
-  const std::size_t particle = 3 * D * 2 * sizeof(double) + 2 * sizeof(double) + 1 + 2 * 4;
+  // per particle: positions and velocities read and written; inverse mass and radius read
+  // where they differ between particles; the flags byte and both pair lists' offsets read
+  // (the pending forces stay in cache: a ring of a few blocks and the front's slots)
+  const std::size_t particle = 2 * D * 2 * sizeof(double) + (im.uniform() ? 0 : sizeof(double)) +
+                               (rad.uniform() ? 0 : sizeof(double)) + 1 + 2 * 4;
   // per pair: partner index read, state byte and shear history read and written
   const std::size_t pair = 4 + 2 + 2 * kNs * sizeof(double);
   std::size_t b = n() * particle + contacts.size() * pair;

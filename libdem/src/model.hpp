@@ -57,9 +57,9 @@ struct ForceHistory {
 /// (pair-law table, id lookup cache, thread plan, cross-pair slots) is derived from it.
 struct StateRefs {
   int dim = 0;
-  std::array<std::vector<double>*, 3> x{}, v{}, x0{}, f{};  // first `dim` used
-  std::vector<double>* im = nullptr;
-  std::vector<double>* rad = nullptr;
+  std::array<std::vector<double>*, 3> x{}, v{}, x0{};  // first `dim` used
+  ParticleConst* im = nullptr;
+  ParticleConst* rad = nullptr;
   std::vector<std::uint32_t>* id = nullptr;
   std::vector<std::uint32_t>* grp = nullptr;
   std::vector<std::uint8_t>* mat = nullptr;
@@ -185,7 +185,6 @@ class Model final : public ModelBase, public ModelData<D> {
   using Data::cross_c;
   using Data::dist2;
   using Data::evbuf;
-  using Data::f;
   using Data::flags;
   using Data::grp;
   using Data::id;
@@ -193,6 +192,8 @@ class Model final : public ModelBase, public ModelData<D> {
   using Data::kNs;
   using Data::mat;
   using Data::n;
+  using Data::pend;
+  using Data::pend_slot;
   using Data::plan;
   using Data::rad;
   using Data::rest_of;
@@ -259,7 +260,7 @@ class Model final : public ModelBase, public ModelData<D> {
   std::vector<std::array<double, 3>> positions() const override { return pack(x); }
   std::vector<std::array<double, 3>> velocities() const override { return pack(v); }
   std::vector<std::array<double, 3>> displacements() const override;
-  std::vector<double> radii() const override { return rad; }
+  std::vector<double> radii() const override { return rad.values(); }
   std::vector<std::uint32_t> ids() const override { return id; }
   const std::vector<std::uint32_t>& particle_sets() const override { return grp; }
   std::vector<float> damage() const override;

@@ -74,7 +74,7 @@ void Model<D>::initialise() {
   refresh_laws();
   resolve_bcs();
   acc.assign(static_cast<std::size_t>((n() + kBlock - 1) / kBlock), BlockAcc{});
-  const double rmax = *std::max_element(rad.begin(), rad.end());
+  const double rmax = rad.max();
   skin = settings.skin > 0 ? settings.skin : 0.5 * rmax;
   contacts_on = settings.contact_detection;
   ph.lap("laws and boundary conditions");
@@ -85,10 +85,7 @@ void Model<D>::initialise() {
   compute_critical_dt();
   ph.lap("critical time step");
   check_dt();
-  for (int a = 0; a < D; ++a) {  // allocated after the time-step estimate's temporaries
-    x0[a] = x[a];
-    f[a].assign(n(), 0.0);
-  }
+  for (int a = 0; a < D; ++a) x0[a] = x[a];  // allocated after the time-step estimate's temporaries
   // energy budget of the blow-up check: initial kinetic + stored energy
   energy_budget0 = dry_kinetic() + dry_bond_energy();
   energy_tiny = static_cast<double>(n()) * 0.5 * max_stiffness() * std::pow(1e-6 * 2 * rmax, 2);
@@ -295,7 +292,7 @@ void Model<D>::update_alarm() {
       return;
     }
   const double budget = 10 * (energy_budget0 + std::abs(external_work())) + energy_tiny;
-  const double imax = *std::max_element(im.begin(), im.end());
+  const double imax = im.max();
   v2_alarm = 2 * budget * imax;  // ½·|v|²/im_p > budget for any particle p
 }
 

@@ -119,7 +119,7 @@ void Model<D>::bond_touching_pairs(double tol) {
     sort_particles();
     ph.lap("spatial order");
   }
-  const double rmax = *std::max_element(rad.begin(), rad.end());
+  const double rmax = rad.max();
   const Grid g = build_grid(2 * rmax * (1 + tol));
   ph.lap("cell grid");
   const double f1 = (1 + tol) * (1 + tol);
@@ -203,7 +203,7 @@ bool Model<D>::bonded(std::size_t p, std::uint32_t q) const {
 template <int D>
 void Model<D>::rebuild_contacts() {
   const std::size_t N = n();
-  const double rmax = *std::max_element(rad.begin(), rad.end());
+  const double rmax = rad.max();
   const Grid g = build_grid(2 * rmax + skin);
   PairList L = build_pairs(g, [&](std::size_t p, std::uint32_t q) {
     const double r = rad[p] + rad[q] + skin;
@@ -304,8 +304,9 @@ void Model<D>::build_plan(int nt) {
   for (std::size_t p = 0; p < N; ++p)
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
       bond_owner[k] = static_cast<std::uint8_t>(p % kBlock);
-  uniform_diameter =
-      N > 0 && std::all_of(rad.begin(), rad.end(), [&](double r) { return r == rad[0]; }) ? 2 * rad[0] : 0.0;
+  uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
+  pend_slot.assign(static_cast<std::size_t>(nb), -1);
+  pend.assign(nt, PendingPool{std::vector<double>(D * Data::kRing, 0.0), {}, {}});
   cross_b.assign(plan.base_b[nt] * (D + 1), 0.0);
   cross_c.assign(plan.base_c[nt] * (D + 1), 0.0);
   plan_dirty = false;

@@ -33,8 +33,9 @@ using detail::Wall;
 // Version of the layout below; a change of layout must raise it. Format 1 had no pair-law
 // names (all its materials use solid_lattice); formats 1 and 2 stored groups as one bit per
 // group (at most 32) instead of group sets, and had no radial loads; formats 1 to 3 had
-// linear force histories only (no ramp). All are still read.
-constexpr std::int64_t kFormat = 4;
+// linear force histories only (no ramp); formats 1 to 4 stored a force accumulator per
+// particle, zero between steps, which is not read. All are still read.
+constexpr std::int64_t kFormat = 5;
 constexpr std::int64_t kOldestFormat = 1;
 
 // How a member of type T is stored: bool as uint8, int and enums as int64.
@@ -86,6 +87,7 @@ struct Saver {
   void vec(const std::string& name, std::vector<T>& values) {
     w.put("dem/" + name, values);
   }
+  void vec(const std::string& name, detail::ParticleConst& values) { w.put("dem/" + name, values.values()); }
   void strings(const std::string& name, std::vector<std::string>& values) {
     std::vector<std::uint32_t> len;
     std::string all;
@@ -126,6 +128,9 @@ struct Loader {
   template <typename T>
   void vec(const std::string& name, std::vector<T>& values) {
     values = r.get<T>("dem/" + name);
+  }
+  void vec(const std::string& name, detail::ParticleConst& values) {
+    values.assign(r.get<double>("dem/" + name));
   }
   void strings(const std::string& name, std::vector<std::string>& values) {
     const auto len = r.get<std::uint32_t>("dem/" + name + "/length");
@@ -293,7 +298,6 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
     io.vec(std::string("particles/position/") + kAxis[a], *s.x[a]);
     io.vec(std::string("particles/velocity/") + kAxis[a], *s.v[a]);
     io.vec(std::string("particles/start_position/") + kAxis[a], *s.x0[a]);
-    io.vec(std::string("particles/force_accumulator/") + kAxis[a], *s.f[a]);
   }
   io.vec("particles/inverse_mass", *s.im);
   io.vec("particles/radius", *s.rad);
@@ -387,7 +391,6 @@ void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
     same(s.x[a]->size(), "particles/position", n);
     same(s.v[a]->size(), "particles/velocity", n);
     same(s.x0[a]->size(), "particles/start_position", n);
-    same(s.f[a]->size(), "particles/force_accumulator", n);
   }
   same(s.im->size(), "particles/inverse_mass", n);
   same(s.rad->size(), "particles/radius", n);
@@ -475,7 +478,6 @@ StateRefs Model<D>::state_refs() {
     r.x[a] = &x[a];
     r.v[a] = &v[a];
     r.x0[a] = &x0[a];
-    r.f[a] = &f[a];
   }
   r.im = &im;
   r.rad = &rad;

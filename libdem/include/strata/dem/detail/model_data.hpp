@@ -5,7 +5,9 @@
 // gets a step loop compiled for it.
 #include <strata/dem/simulation.hpp>
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -20,6 +22,50 @@ inline constexpr std::ptrdiff_t kBlock = 256;
 /// Shear components per pair: a scalar along the tangent in 2D, a vector in 3D.
 template <int D>
 inline constexpr int kNsOf = D == 2 ? 1 : 3;
+
+/// A constant of each particle (radius, inverse mass), stored once while every particle has
+/// the same value (bit for bit) and one per particle from the first that differs: a model of
+/// one size and material keeps 16 bytes per particle fewer.
+class ParticleConst {
+ public:
+  double operator[](std::size_t i) const { return all_.empty() ? one_ : all_[i]; }
+  std::size_t size() const { return n_; }
+  bool uniform() const { return all_.empty(); }
+  /// The values one per particle, or nullptr while they are uniform.
+  const double* per_particle() const { return all_.empty() ? nullptr : all_.data(); }
+  void push_back(double value) {
+    if (all_.empty()) {
+      if (n_ == 0) one_ = value;
+      if (std::bit_cast<std::uint64_t>(value) == std::bit_cast<std::uint64_t>(one_)) {
+        ++n_;
+        return;
+      }
+      all_.assign(n_, one_);
+    }
+    all_.push_back(value);
+    ++n_;
+  }
+  /// Reorders as a[i] = a[perm[i]].
+  void permute(const std::vector<std::uint32_t>& perm) {
+    if (all_.empty()) return;
+    std::vector<double> out(perm.size());
+    for (std::size_t i = 0; i < perm.size(); ++i) out[i] = all_[perm[i]];
+    all_.swap(out);
+  }
+  std::vector<double> values() const { return all_.empty() ? std::vector<double>(n_, one_) : all_; }
+  void assign(const std::vector<double>& values) {
+    all_.clear();
+    n_ = 0;
+    for (const double x : values) push_back(x);
+  }
+  double max() const { return all_.empty() ? one_ : *std::max_element(all_.begin(), all_.end()); }
+  std::size_t bytes() const { return all_.capacity() * sizeof(double); }
+
+ private:
+  std::vector<double> all_;
+  double one_ = 0;
+  std::size_t n_ = 0;
+};
 
 /// Bonds or contacts stored CSR by owner: the pairs (i, j > i) of owner i are
 /// off[i] .. off[i+1]-1, sorted by j; i is implied.
@@ -88,6 +134,23 @@ struct Incoming {
   bool contact;
 };
 
+/// Blocks of pending forces a thread keeps in its ring (see PendingPool).
+inline constexpr std::ptrdiff_t kRingBlocks = 32;
+
+/// Forces pending for particles not yet updated in a step, one pool per thread of the plan.
+/// A pair's force on its partner j (j > its owner, in the same thread's range) is added to
+/// j's entry when the owner is updated, and read when j is. Entries are held only along the
+/// front between the particles already updated and those still to come, not in an array
+/// over all particles: a ring over the block being updated and the kRingBlocks - 1 after it
+/// (nearly every partner in the spatial order), and for a block further ahead a slot of its
+/// own, taken when a force first arrives and moved into the ring when the block enters it,
+/// so that every entry sums its forces in the same order as one array would.
+struct PendingPool {
+  std::vector<double> ring;  // D × (kRingBlocks · kBlock), component-major; block b at b mod kRingBlocks
+  std::vector<double> buf;   // slots × D × kBlock, component-major within a slot
+  std::vector<std::int32_t> spare;  // slots free for reuse
+};
+
 /// Thread plan (rebuilt when the thread count or the contact lists change): contiguous
 /// ranges of whole blocks; pairs whose partner lies in a later thread's range ("cross
 /// pairs") are computed first (phase A), stored in slots, and gathered by both ends in the
@@ -133,8 +196,8 @@ struct ModelData {
   static constexpr int kNs = kNsOf<D>;
 
   // ---- particle arrays -----------------------------------------------------------------
-  std::array<std::vector<double>, D> x, v, x0, f;
-  std::vector<double> im, rad;
+  std::array<std::vector<double>, D> x, v, x0;
+  ParticleConst im, rad;  // inverse mass (1/kg), radius (m)
   std::vector<std::uint32_t> id, grp;
   std::vector<std::uint8_t> mat, flags;  // flags bit 0: particle has a boundary condition
   PairList bonds, contacts;
@@ -151,8 +214,56 @@ struct ModelData {
   std::vector<std::uint8_t> bond_owner;
   static_assert(kBlock <= 256, "bond_owner holds owner offsets in one byte");
   std::vector<double> cross_b, cross_c;  // D forces + 1 energy per slot
+  /// Per block: its slot in its thread's pool of pending forces, or -1 (see PendingPool).
+  std::vector<std::int32_t> pend_slot;
+  std::vector<PendingPool> pend;  // per thread of the plan
 
-  std::size_t n() const { return im.size(); }
+  static constexpr std::size_t kRing = static_cast<std::size_t>(kRingBlocks * kBlock);
+
+  /// The entry of particle j, beyond the ring, in thread t's pool: component a at
+  /// [a * kBlock] of its block's slot, taken (zeroed) when the block has none yet. Valid
+  /// until the next call.
+  double* pending_far(int t, std::uint32_t j) {
+    const std::size_t blk = j / kBlock;
+    std::int32_t s = pend_slot[blk];
+    PendingPool& P = pend[t];
+    if (s < 0) {
+      if (P.spare.empty()) {
+        s = static_cast<std::int32_t>(P.buf.size() / (D * kBlock));
+        P.buf.resize(P.buf.size() + D * kBlock, 0.0);
+      } else {
+        s = P.spare.back();
+        P.spare.pop_back();
+      }
+      pend_slot[blk] = s;
+    }
+    return P.buf.data() + static_cast<std::size_t>(s) * (D * kBlock) + j % kBlock;
+  }
+  /// Block blk of thread t (whose range ends at particle e) is updated: its ring entries
+  /// are zeroed, and the block kRingBlocks ahead, which takes its place in the ring, brings
+  /// the forces it has pending so far from its slot.
+  void pending_advance(int t, std::ptrdiff_t blk, std::ptrdiff_t e) {
+    PendingPool& P = pend[t];
+    const std::size_t at = static_cast<std::size_t>(blk % kRingBlocks) * kBlock;
+    const std::ptrdiff_t nb = blk + kRingBlocks;
+    const std::int32_t s = nb * kBlock < e ? pend_slot[static_cast<std::size_t>(nb)] : -1;
+    for (int a = 0; a < D; ++a) {
+      double* r = P.ring.data() + a * kRing + at;
+      if (s < 0) {
+        std::fill(r, r + kBlock, 0.0);
+      } else {
+        double* q = P.buf.data() + (static_cast<std::size_t>(s) * D + a) * kBlock;
+        std::copy(q, q + kBlock, r);
+        std::fill(q, q + kBlock, 0.0);
+      }
+    }
+    if (s >= 0) {
+      P.spare.push_back(s);
+      pend_slot[static_cast<std::size_t>(nb)] = -1;
+    }
+  }
+
+  std::size_t n() const { return x[0].size(); }
 
   double dist2(std::size_t p, std::size_t q) const {
     double s = 0;

@@ -313,7 +313,7 @@ class Engine final : public LawEngine<D> {
                           V[0],
                           V[1],
                           V[D - 1],
-                          m.rad.data(),
+                          m.rad.per_particle(),  // read only for kRadiusSum: sizes differ
                           kRest == kPerBond ? m.bonds.r0.data() + k0 : nullptr,
                           kRest == kPerBond ? m.bonds.kf.data() + k0 : nullptr,
                           kRest == kPerBond ? m.bonds.sf.data() + k0 : nullptr,
@@ -368,14 +368,12 @@ class Engine final : public LawEngine<D> {
     if (b >= e) return;
     double* __restrict X[D];
     double* __restrict V[D];
-    double* __restrict FA[D];
     for (int a = 0; a < D; ++a) {
       X[a] = m.x[a].data();
       V[a] = m.v[a].data();
-      FA[a] = m.f[a].data();
     }
-    const double* __restrict R = m.rad.data();
-    const double* __restrict IM = m.im.data();
+    const ParticleConst& R = m.rad;
+    const ParticleConst& IM = m.im;
     const std::uint8_t* __restrict FL = m.flags.data();
     const std::uint32_t* __restrict boff = m.bonds.off.data();
     const std::uint32_t* __restrict bj = m.bonds.j.data();
@@ -396,9 +394,24 @@ class Engine final : public LawEngine<D> {
     }
 
     // incoming cross contributions, ascending owner
+    // pending forces: the ring for partners before ring_end, a slot of its own further on
+    PendingPool& pool = m.pend[t];
+    double* __restrict RG = pool.ring.data();
+    constexpr std::uint32_t kRingMask = ModelData<D>::kRing - 1;
+    static_assert((ModelData<D>::kRing & kRingMask) == 0, "the ring's size is a power of two");
+    std::uint32_t ring_end =
+        static_cast<std::uint32_t>(std::min<std::ptrdiff_t>(e, b + kRingBlocks * kBlock));
+    auto pend_sub = [&](std::uint32_t j, const double* Fp) {
+      if (j < ring_end) [[likely]] {
+        for (int a = 0; a < D; ++a) RG[a * ModelData<D>::kRing + (j & kRingMask)] -= Fp[a];
+      } else {
+        double* q = m.pending_far(t, j);
+        for (int a = 0; a < D; ++a) q[a * kBlock] -= Fp[a];
+      }
+    };
     for (const Incoming& in : m.plan.in[t]) {
       const double* s = in.contact ? &m.cross_c[in.slot * (D + 1)] : &m.cross_b[in.slot * (D + 1)];
-      for (int a = 0; a < D; ++a) FA[a][in.target] -= s[a];
+      pend_sub(in.target, s);
     }
     std::size_t cur_b = m.plan.base_b[t], cur_c = m.plan.base_c[t];
     auto bc_it = std::lower_bound(m.bcp.begin(), m.bcp.end(), static_cast<std::uint32_t>(b),
@@ -413,18 +426,16 @@ class Engine final : public LawEngine<D> {
         bond_block<kEnergy, kUniform>(m, t, c, blk * kBlock, pe, e);
       else
         bond_block<kEnergy, kRadiusSum>(m, t, c, blk * kBlock, pe, e);
-      // the block's bond forces and energies (pointers hoisted: the stores to f[] below
+      // the block's bond forces and energies (pointers hoisted: the stores of pending forces below
       // would otherwise make the compiler reload them for every bond)
       const std::uint32_t kb0 = boff[blk * kBlock];
       const double* __restrict SF[D];
       for (int a = 0; a < D; ++a) SF[a] = m.scratch[t].fb[a].data() - kb0;
       const double* __restrict SE = m.scratch[t].en.data() - kb0;
       for (std::ptrdiff_t p = blk * kBlock; p < pe; ++p) {
-        double F[D];
-        for (int a = 0; a < D; ++a) {
-          F[a] = FA[a][p];
-          FA[a][p] = 0.0;
-        }
+        double F[D];  // the forces of earlier particles' pairs and of the incoming cross pairs
+        for (int a = 0; a < D; ++a)
+          F[a] = RG[a * ModelData<D>::kRing + (static_cast<std::uint32_t>(p) & kRingMask)];
         // bonds owned by p, then contacts owned by p (fixed order)
         for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
           const std::uint32_t j = bj[k];
@@ -434,10 +445,8 @@ class Engine final : public LawEngine<D> {
             for (int a = 0; a < D; ++a) Fb[a] = s[a];
             if constexpr (kEnergy) eb += s[D];
           } else {
-            for (int a = 0; a < D; ++a) {
-              Fb[a] = SF[a][k];
-              FA[a][j] -= Fb[a];
-            }
+            for (int a = 0; a < D; ++a) Fb[a] = SF[a][k];
+            pend_sub(j, Fb);
             if constexpr (kEnergy) eb += SE[k];
           }
           for (int a = 0; a < D; ++a) F[a] += Fb[a];
@@ -455,7 +464,7 @@ class Engine final : public LawEngine<D> {
             const double en = pair_force<kEnergy>(XC, VC, R[p] + R[j], p, j, cst[k],
                                                   &cus[std::size_t{k} * kNs], law, dt, Fb, broke);
             if constexpr (kEnergy) eb += en;
-            for (int a = 0; a < D; ++a) FA[a][j] -= Fb[a];
+            pend_sub(j, Fb);
           }
           for (int a = 0; a < D; ++a) F[a] += Fb[a];
         }
@@ -536,6 +545,9 @@ class Engine final : public LawEngine<D> {
         vmax2 = std::max(vmax2, v2);
         if constexpr (kEnergy) ke += 0.5 * vv / imass;
       }
+      m.pending_advance(t, blk, e);  // may move a slot into the ring
+      RG = pool.ring.data();
+      ring_end = static_cast<std::uint32_t>(std::min<std::ptrdiff_t>(e, (blk + 1 + kRingBlocks) * kBlock));
       BlockAcc& A = m.acc[blk];
       A.work += work;
       A.work_ex += work_ex;
