@@ -31,8 +31,10 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
 
   // The micro-parameters of Liu, Pollard & Shi 2013 for 1 mm disks; 3D uses the same springs with ρ in kg/m³.
+  // --normal-only drops the shear springs (the model then keeps no shear history).
   const double d = 1e-3;
-  const dem::Material m = dem::liu2013_rock();
+  dem::Material m = dem::liu2013_rock();
+  if (o.normal_only) m.ks = 0;
   dem::Settings s;
   s.dt = 1e-15;  // replaced by 0.5·critical_dt below
   s.damping = dem::Settings::Damping::Viscous;
@@ -84,15 +86,16 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   const double nn = static_cast<double>(n);
   const double streamed = static_cast<double>(sim.streamed_bytes_per_step());
   return fmt::format(
-      "{{\"dim\": {}, \"lattice\": \"{}\", \"side\": {:.9g}, \"particles\": {}, \"bonds\": {}, \"steps\": "
+      "{{\"dim\": {}, \"lattice\": \"{}\", \"springs\": \"{}\", \"side\": {:.9g}, \"particles\": {}, "
+      "\"bonds\": {}, \"steps\": "
       "{}, \"threads\": {}, "
       "\"seconds\": {:.6g}, \"particle_steps_per_s\": {:.6g}, \"bytes_per_particle\": {:.1f}, "
       "\"model_bytes_per_particle\": {:.1f}, \"streamed_bytes_per_particle_step\": {:.1f}, "
       "\"streamed_gb_per_s\": {:.4g}, \"dt\": {:.6g}, \"dt_over_dt_crit\": {:.4g}, \"broken_bonds\": "
       "{}, "
       "\"contacts\": {}, \"setup_seconds\": {:.4g}}}",
-      o.dim, o.dim == 2 ? "hex" : o.lattice, side, n, sim.bond_count(), o.steps, threads, secs,
-      nn * static_cast<double>(o.steps) / secs, (hwm - rss0) / nn,
+      o.dim, o.dim == 2 ? "hex" : o.lattice, o.normal_only ? "normal" : "normal and shear", side, n,
+      sim.bond_count(), o.steps, threads, secs, nn * static_cast<double>(o.steps) / secs, (hwm - rss0) / nn,
       static_cast<double>(sim.memory_bytes()) / nn, streamed / nn,
       streamed * static_cast<double>(o.steps) / secs * 1e-9, sim.dt(), sim.dt() / sim.critical_dt(),
       sim.broken_count(), sim.contact_count(), setup);

@@ -13,6 +13,7 @@ struct BenchDemOptions {
   std::int64_t steps = 1000;       ///< steps timed
   int threads = 0;                 ///< 0: all hardware threads
   std::string lattice = "hcp";     ///< 3D packing: "hcp" or "fcc"
+  bool normal_only = false;        ///< ks = 0: central forces only, and no shear history kept
 };
 
 /// Builds the block (platens: top and bottom rows/layers, moving inward along y (2D) or z

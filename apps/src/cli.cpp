@@ -143,6 +143,9 @@ int main(int argc, char** argv) {
   bdem->add_option("--steps", bopt.steps, "Time steps to time")->check(kPositive);
   bdem->add_option("--threads", bopt.threads, "Threads (0 = all)")->check(CLI::Range(0, par::kMaxThreads));
   bdem->add_option("--lattice", bopt.lattice, "3D lattice: hcp or fcc")->check(CLI::IsMember({"hcp", "fcc"}));
+  bdem->add_flag(
+      "--normal-only", bopt.normal_only,
+      "Normal springs only (ks = 0: central forces, no shear history kept), as LAMMPS's bond harmonic");
   bdem->footer("Example:\n  strata bench dem --dim 2 --particles 1000000 --steps 200 --threads 2");
 
   // ---- render ----

@@ -180,7 +180,8 @@ void Model<D>::sort_particles() {
       for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
         pairs.push_back({inv[p], inv[bonds.j[k]]});
         pst.push_back(bonds.st[k]);
-        for (int s = 0; s < kNs; ++s) pus.push_back(bonds.us[k * kNs + s]);
+        if (!bonds.us.empty())
+          for (int s = 0; s < kNs; ++s) pus.push_back(bonds.us[k * kNs + s]);
         if (!bonds.r0.empty()) {
           pr0.push_back(bonds.r0[k]);
           pkf.push_back(bonds.kf[k]);
@@ -210,7 +211,7 @@ void Model<D>::sort_particles() {
     nb.off.assign(N + 1, 0);
     nb.j.resize(pairs.size());
     nb.st.resize(pairs.size());
-    nb.us.resize(pairs.size() * kNs);
+    nb.us.resize(pus.size());
     nb.r0.resize(pr0.size());
     nb.kf.resize(pkf.size());
     nb.sf.resize(psf.size());
@@ -219,7 +220,8 @@ void Model<D>::sort_particles() {
       nb.off[pairs[o][0] + 1]++;
       nb.j[k] = pairs[o][1];
       nb.st[k] = pst[o];
-      for (int s = 0; s < kNs; ++s) nb.us[k * kNs + s] = pus[o * kNs + s];
+      if (!pus.empty())
+        for (int s = 0; s < kNs; ++s) nb.us[k * kNs + s] = pus[o * kNs + s];
       if (!pr0.empty()) {
         nb.r0[k] = pr0[o];
         nb.kf[k] = pkf[o];
@@ -297,7 +299,7 @@ std::size_t Model<D>::streamed_bytes_per_step() const {
   const std::size_t particle = 2 * D * 2 * sizeof(double) + (im.uniform() ? 0 : sizeof(double)) +
                                (rad.uniform() ? 0 : sizeof(double)) + 1 + 2 * 4;
   // per pair: partner index read, state byte and shear history read and written
-  const std::size_t pair = 4 + 2 + 2 * kNs * sizeof(double);
+  const std::size_t pair = 4 + 2 + (bonds.us.empty() ? 0 : 2 * kNs * sizeof(double));
   std::size_t b = n() * particle + contacts.size() * pair;
   b += bonds.size() * (pair + 1);                                 // and the owner byte of the bond pass
   if (!bonds.r0.empty()) b += bonds.size() * 3 * sizeof(double);  // rest length, factors

@@ -298,6 +298,11 @@ class Model final : public ModelBase, public ModelData<D> {
 
   // ---- pair law, set-up and run loop (run.cpp) ---------------------------------------------
   void refresh_laws();
+  /// Whether pairs keep a shear history: not when every pair law's shear stiffness is zero
+  /// (central forces only), whose shear force is then zero whatever the history holds.
+  bool keeps_shear();
+  /// Allocates (zero) or frees the pair lists' shear histories as keeps_shear() says.
+  void fit_shear_history();
   void initialise() override;
   void check_dt() override;
   void walls_changed() override {

@@ -59,6 +59,26 @@ void Model<D>::refresh_laws() {
 }
 
 template <int D>
+bool Model<D>::keeps_shear() {
+  if (nmat != static_cast<int>(materials.size())) refresh_laws();
+  return stiff.empty() ||
+         std::any_of(stiff.begin(), stiff.end(), [](const PairStiffness& k) { return k.ks != 0; });
+}
+
+template <int D>
+void Model<D>::fit_shear_history() {
+  const bool keep = keeps_shear();
+  for (PairList* L : {&bonds, &contacts}) {
+    if (!keep) {
+      L->us.clear();
+      L->us.shrink_to_fit();
+    } else if (L->us.size() != L->size() * kNs) {
+      L->us.assign(L->size() * kNs, 0.0);
+    }
+  }
+}
+
+template <int D>
 void Model<D>::initialise() {
   STRATA_CHECK(n() > 0, Input, "initialise: the model has no particles");
   STRATA_CHECK(!materials.empty(), Input, "initialise: no material");
@@ -72,6 +92,7 @@ void Model<D>::initialise() {
     ph.lap("spatial order");
   }
   refresh_laws();
+  fit_shear_history();
   resolve_bcs();
   acc.assign(static_cast<std::size_t>((n() + kBlock - 1) / kBlock), BlockAcc{});
   const double rmax = rad.max();
@@ -315,6 +336,8 @@ void Model<D>::merge_events() {
 
 #define STRATA_DEM_INSTANTIATE(D)                  \
   template void Model<D>::refresh_laws();          \
+  template bool Model<D>::keeps_shear();           \
+  template void Model<D>::fit_shear_history();     \
   template void Model<D>::initialise();            \
   template void Model<D>::check_dt();              \
   template StepCtx Model<D>::step_context() const; \

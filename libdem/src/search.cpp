@@ -128,7 +128,7 @@ void Model<D>::bond_touching_pairs(double tol) {
     return dist2(p, q) <= r * r * f1;
   });
   L.st.assign(L.size(), pair_state::kIntact);
-  L.us.assign(L.size() * kNs, 0.0);
+  if (keeps_shear()) L.us.assign(L.size() * kNs, 0.0);
   bonds = std::move(L);
   ph.lap("touching pairs");
 }
@@ -187,7 +187,7 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
   }
   for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
   L.st.assign(L.size(), pair_state::kIntact);
-  L.us.assign(L.size() * kNs, 0.0);
+  if (keeps_shear()) L.us.assign(L.size() * kNs, 0.0);
   bonds = std::move(L);
 }
 
@@ -210,7 +210,7 @@ void Model<D>::rebuild_contacts() {
     return dist2(p, q) < r * r && !bonded(p, q);
   });
   L.st.assign(L.size(), pair_state::kContact);
-  L.us.assign(L.size() * kNs, 0.0);
+  if (keeps_shear()) L.us.assign(L.size() * kNs, 0.0);
   if (contacts.size() > 0) {
     for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
       std::uint32_t a = contacts.off[p], b = L.off[p];
@@ -222,7 +222,8 @@ void Model<D>::rebuild_contacts() {
           ++b;
         } else {
           L.st[b] = contacts.st[a];
-          for (int s = 0; s < kNs; ++s) L.us[b * kNs + s] = contacts.us[a * kNs + s];
+          if (!L.us.empty() && !contacts.us.empty())
+            for (int s = 0; s < kNs; ++s) L.us[b * kNs + s] = contacts.us[a * kNs + s];
           ++a;
           ++b;
         }

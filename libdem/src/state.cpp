@@ -415,7 +415,7 @@ void check_loaded(const ModelBase& m, const StateRefs& s, std::size_t n) {
   for (const PairList* L : {s.bonds, s.contacts}) {
     same(L->off.size(), "pair offsets", n + 1);
     same(L->st.size(), "pair states", L->j.size());
-    same(L->us.size(), "pair shear displacements", L->j.size() * kns);
+    if (!L->us.empty()) same(L->us.size(), "pair shear displacements", L->j.size() * kns);
     if (!L->r0.empty() || !L->kf.empty()) {
       same(L->r0.size(), "bond rest lengths", L->j.size());
       same(L->kf.size(), "bond stiffness factors", L->j.size());
@@ -514,6 +514,10 @@ StateRefs Model<D>::state_refs() {
 template <int D>
 void Model<D>::state_loaded() {
   refresh_laws();
+  STRATA_CHECK(!keeps_shear() ||
+                   (bonds.us.size() == bonds.size() * kNs && contacts.us.size() == contacts.size() * kNs),
+               IO,
+               "damaged state: pairs without shear displacements, but the pair law has a shear stiffness");
   set_load_directions();  // derived from the start positions
   inv_cache.clear();
   sorted = true;

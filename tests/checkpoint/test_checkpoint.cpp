@@ -36,14 +36,14 @@ constexpr double kD = 1e-3;
 
 /// 2D: a block of that rock squeezed fast between two platen rows so that bonds break and contacts
 /// form within a few hundred steps (viscous damping, contact detection, Verlet rebuilds).
-Simulation build_2d_rows(int columns, int rows) {
+Simulation build_2d_rows(int columns, int rows, const Material& rock = lattice_rock()) {
   const preprocess::Lattice lat = preprocess::hex2d_rows(columns, rows, kD);
   Simulation sim(2, Settings{.dt = 1e-12,
                              .damping = Settings::Damping::Viscous,
                              .viscous_c = 1.16e3,
                              .energy_check_every = 100,
                              .min_particles_per_thread = 1});
-  const int mat = sim.add_material(lattice_rock());
+  const int mat = sim.add_material(rock);
   for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
   sim.add_to_group(preprocess::top_row(lat), "top");
   sim.add_to_group(preprocess::bottom_row(lat), "bottom");
@@ -55,6 +55,12 @@ Simulation build_2d_rows(int columns, int rows) {
   return sim;
 }
 Simulation build_2d() { return build_2d_rows(30, 28); }
+/// The same block with normal springs only (ks = 0): the model keeps no shear history.
+Simulation build_2d_central() {
+  Material rock = lattice_rock();
+  rock.ks = 0;
+  return build_2d_rows(30, 28, rock);
+}
 
 /// 3D: the other kinds of state — step displacement of the top (per-particle trapezoid
 /// work history), a force history on the bottom, a moving wall, gravity, local damping.
@@ -246,6 +252,12 @@ TEST(Checkpoint, RestartInMemoryIsBitIdentical2D) { restart_equality(build_2d, 3
 // 147: the checkpoint falls right after a step-displacement jump (every 7 steps), when the
 // trapezoid-rule work history of the top particles is not zero.
 TEST(Checkpoint, RestartInMemoryIsBitIdentical3D) { restart_equality(build_3d, 147, via_memory, false); }
+
+TEST(Checkpoint, RestartOfACentralForceLatticeIsBitIdentical) {
+  // no shear history is kept or stored: the state holds empty shear displacements
+  restart_equality(build_2d_central, 300, via_memory, true, 2);
+  if (STRATA_WITH_HDF5) restart_equality(build_2d_central, 300, via_hdf5, true);
+}
 
 TEST(Checkpoint, RestartThroughHdf5IsBitIdentical2D) {
   if (!STRATA_WITH_HDF5) GTEST_SKIP() << "built without HDF5";

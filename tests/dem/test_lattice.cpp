@@ -57,31 +57,35 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
   // set (8 B), material and flags (2 B), the two CSR offsets (8 B); no radius or inverse mass
   // of its own (one value for all) and no force array (pending forces wait in a front of a
   // few blocks: a ring of 32 blocks per thread and the slots of blocks further ahead). Per
-  // bond its partner, state byte, shear history (1 double in 2D, 3 in 3D) and owner byte.
-  for (const int dim : {2, 3}) {
-    Settings s;
-    s.dt = 1e-9;
-    s.min_particles_per_thread = 1 << 30;  // one thread: one ring
-    Simulation sim(dim, s);
-    const int mat = sim.add_material(c1_material());
-    const auto lat = dim == 2 ? preprocess::hex2d_box(0, 0, 0.1, 0.1, kC1d)
-                              : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
-                                                             {0.02, 0.02, 0.02}, kC1d);
-    add_lattice(sim, lat, mat);
-    sim.bond_touching_pairs();
-    sim.initialise();
-    const double n = static_cast<double>(sim.particle_count());
-    const double nb = static_cast<double>(sim.bond_count());
-    const double ns = dim == 2 ? 1 : 3;
-    const double arrays = n * (3 * dim * 8 + 8 + 2 + 8) + nb * (4 + 1 + 8 * ns + 1);
-    const double ring = dim * 32 * 256 * 8.0;
-    const double got = static_cast<double>(sim.memory_bytes());
-    EXPECT_GE(got, arrays + ring) << dim << "D";
-    // the rest: per-block accumulators (64 B per 256 particles), the block slot map and the
-    // front's slots, at most a few bytes per particle here
-    EXPECT_LE(got, arrays + ring + 4 * n)
-        << dim << "D: " << (got - arrays - ring) / n << " B per particle more";
-  }
+  // bond its partner, state byte, shear history (1 double in 2D, 3 in 3D; none with normal
+  // springs only, ks = 0, whose shear force is zero whatever the history) and owner byte.
+  for (const int dim : {2, 3})
+    for (const bool central : {false, true}) {  // central: ks = 0, and no shear history is kept
+      Settings s;
+      s.dt = 1e-9;
+      s.min_particles_per_thread = 1 << 30;  // one thread: one ring
+      Simulation sim(dim, s);
+      Material rock = c1_material();
+      if (central) rock.ks = 0;
+      const int mat = sim.add_material(rock);
+      const auto lat = dim == 2 ? preprocess::hex2d_box(0, 0, 0.1, 0.1, kC1d)
+                                : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
+                                                               {0.02, 0.02, 0.02}, kC1d);
+      add_lattice(sim, lat, mat);
+      sim.bond_touching_pairs();
+      sim.initialise();
+      const double n = static_cast<double>(sim.particle_count());
+      const double nb = static_cast<double>(sim.bond_count());
+      const double ns = central ? 0 : dim == 2 ? 1 : 3;
+      const double arrays = n * (3 * dim * 8 + 8 + 2 + 8) + nb * (4 + 1 + 8 * ns + 1);
+      const double ring = dim * 32 * 256 * 8.0;
+      const double got = static_cast<double>(sim.memory_bytes());
+      EXPECT_GE(got, arrays + ring) << dim << "D";
+      // the rest: per-block accumulators (64 B per 256 particles) and the block slot map
+      // (the front's slots are taken while stepping)
+      EXPECT_LE(got, arrays + ring + 4 * n)
+          << dim << "D: " << (got - arrays - ring) / n << " B per particle more";
+    }
 }
 
 TEST(Lattice, ClosePackedCoordination) {

@@ -28,6 +28,7 @@ inline constexpr std::size_t kChunk = 128;
 struct BondSpan {
   const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf, *sf;
   double *F0, *F1, *F2, *en, *us;
+  bool keep_us;  // false: us points at zeros the pass reads and must not write (no shear history)
   const std::uint8_t* own;
   const std::uint32_t* j;
   std::uint8_t *st, *slow;
@@ -169,7 +170,7 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   for (std::size_t i = 0; i < len_q; ++i) {
     slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
     if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
-    if (!SLOW[i])
+    if (!SLOW[i] && sp.keep_us)
       for (int a = 0; a < kNs; ++a) bus[(qa + i) * kNs + a] = NU[a][i];
   }
 }

@@ -109,6 +109,7 @@ BondResults batch_cases(const BondCases& cs) {
                       F[D - 1].data() + c0,
                       en.data() + c0,
                       us.data() + c0 * kNs,
+                      true,
                       own.data() + c0,
                       j.data() + c0,
                       st.data() + c0,

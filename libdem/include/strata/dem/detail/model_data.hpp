@@ -73,7 +73,7 @@ struct PairList {
   std::vector<std::uint32_t> off{0};
   std::vector<std::uint32_t> j;
   std::vector<std::uint8_t> st;
-  std::vector<double> us;  // NS shear components per pair
+  std::vector<double> us;  // NS shear components per pair; empty when the model keeps none
   // Bonds given as data only (Simulation::set_bonds; empty otherwise): rest length (the
   // initial centre distance), stiffness factor and strength factor of each bond; all apply
   // while the bond is intact.
@@ -170,6 +170,8 @@ struct Scratch {
   std::array<std::vector<double>, D> fb;
   std::vector<double> en;
   std::vector<std::uint8_t> slow;
+  /// Zero shear histories the bond pass reads where the model keeps none (never written).
+  std::vector<double> no_us;
   void fit(std::size_t m) {
     if (en.size() >= m) return;
     for (auto& a : fb) a.resize(m);
@@ -279,6 +281,16 @@ struct ModelData {
   /// a broken one pushes back once shorter than that, as two touching grains would).
   double rest_of(const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
     return L.r0.empty() ? rad[p] + rad[j] : L.r0[k];
+  }
+
+  /// The shear history of pair k of L, or `none` zeroed when the model keeps none (every
+  /// pair law's shear stiffness is zero: the law's shear force is then zero whatever it reads).
+  static double* us_of(PairList& L, std::uint32_t k, double* none) {
+    if (L.us.empty()) {
+      for (int s = 0; s < kNs; ++s) none[s] = 0.0;
+      return none;
+    }
+    return &L.us[std::size_t{k} * kNs];
   }
 
   /// Whether pair k of L is an intact bond given as data, whose Kn and Ks are scaled by its

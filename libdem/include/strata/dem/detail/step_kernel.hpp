@@ -146,7 +146,7 @@ class Engine final : public LawEngine<D> {
         const std::uint32_t j = L.j[k];
         std::uint8_t st = L.st[k];
         double us[kNs];
-        for (int s = 0; s < kNs; ++s) us[s] = L.us[std::size_t{k} * kNs + s];
+        for (int s = 0; s < kNs; ++s) us[s] = L.us.empty() ? 0.0 : L.us[std::size_t{k} * kNs + s];
         double F[D];
         int broke = 0;
         // forces at the current state without the pending increment (dt = 0)
@@ -205,7 +205,7 @@ class Engine final : public LawEngine<D> {
       const std::uint32_t j = L.j[k];
       std::uint8_t st = L.st[k];
       double us[kNs];
-      for (int s = 0; s < kNs; ++s) us[s] = L.us[std::size_t{k} * kNs + s];
+      for (int s = 0; s < kNs; ++s) us[s] = L.us.empty() ? 0.0 : L.us[std::size_t{k} * kNs + s];
       double F[D];
       int broke = 0;
       const double e =
@@ -235,10 +235,10 @@ class Engine final : public LawEngine<D> {
                         std::vector<double>& slots) {
       for (std::size_t s = 0; s < own.size(); ++s) {
         const std::uint32_t p = own[s][0], k = own[s][1], j = L.j[k];
-        double F[D];
+        double F[D], none[kNs];
         int broke = 0;
         const double e =
-            pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k], &L.us[std::size_t{k} * kNs],
+            pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k], ModelData<D>::us_of(L, k, none),
                                 law_for(m, L, k, p, j), c.dt, F, broke);
         if (broke) [[unlikely]]
           record(m, t, c.step, p, j, broke);
@@ -304,6 +304,8 @@ class Engine final : public LawEngine<D> {
     std::uint8_t* slow = S.slow.data();
     const double dt = c.dt;
     const std::uint32_t ee = static_cast<std::uint32_t>(e);
+    const bool keep_us = !m.bonds.us.empty();
+    if (!keep_us && S.no_us.size() < mq * kNs) S.no_us.assign(mq * kNs, 0.0);
     if constexpr (HasLane<Law, kNs>) {
       if (nmat == 1) {
         // one pointer per axis (arrays of pointers keep GCC from vectorising the 3D loop)
@@ -321,7 +323,8 @@ class Engine final : public LawEngine<D> {
                           FB[1],
                           FB[D - 1],
                           EN,
-                          m.bonds.us.data() + std::size_t{k0} * kNs,
+                          keep_us ? m.bonds.us.data() + std::size_t{k0} * kNs : S.no_us.data(),
+                          keep_us,
                           own,
                           bj,
                           m.bonds.st.data() + k0,
@@ -348,11 +351,11 @@ class Engine final : public LawEngine<D> {
       if (!slow[q] || bj[q] >= ee) [[likely]]
         continue;
       const std::uint32_t p = up0 + own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
-      double F[D];
+      double F[D], none[kNs];
       int broke = 0;
-      EN[q] =
-          pair_force<kEnergy>(X, V, m.rest_of(m.bonds, k, p, j), p, j, m.bonds.st[k],
-                              &m.bonds.us[std::size_t{k} * kNs], law_for(m, m.bonds, k, p, j), dt, F, broke);
+      EN[q] = pair_force<kEnergy>(X, V, m.rest_of(m.bonds, k, p, j), p, j, m.bonds.st[k],
+                                  ModelData<D>::us_of(m.bonds, k, none), law_for(m, m.bonds, k, p, j), dt, F,
+                                  broke);
       for (int a = 0; a < D; ++a) FB[a][q] = F[a];
       if (broke) [[unlikely]]
         record(m, t, c.step, p, j, broke);
@@ -380,7 +383,6 @@ class Engine final : public LawEngine<D> {
     const std::uint32_t* __restrict coff = m.contacts.off.data();
     const std::uint32_t* __restrict cj = m.contacts.j.data();
     std::uint8_t* __restrict cst = m.contacts.st.data();
-    double* __restrict cus = m.contacts.us.data();
     const double dt = c.dt, cv = c.viscous_c, alpha = c.local_alpha;
     const bool one_law = nmat == 1;
     const Law law0 = laws[0];
@@ -460,9 +462,11 @@ class Engine final : public LawEngine<D> {
             if constexpr (kEnergy) eb += s[D];
           } else {
             int broke = 0;
+            double none[kNs];
             const Law& law = one_law ? law0 : law_of(m, p, j);
-            const double en = pair_force<kEnergy>(XC, VC, R[p] + R[j], p, j, cst[k],
-                                                  &cus[std::size_t{k} * kNs], law, dt, Fb, broke);
+            const double en =
+                pair_force<kEnergy>(XC, VC, R[p] + R[j], p, j, cst[k],
+                                    ModelData<D>::us_of(m.contacts, k, none), law, dt, Fb, broke);
             if constexpr (kEnergy) eb += en;
             pend_sub(j, Fb);
           }
