@@ -167,12 +167,16 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
 #pragma omp simd
     for (std::size_t i = 0; i < len_q; ++i) apply_law(i, geometry(i));
   }
+  // (keep_us read once: the byte stores below may alias it, and a reload per bond costs 10 %)
+  const bool keep_us = sp.keep_us;
   for (std::size_t i = 0; i < len_q; ++i) {
     slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
     if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
-    if (!SLOW[i] && sp.keep_us)
-      for (int a = 0; a < kNs; ++a) bus[(qa + i) * kNs + a] = NU[a][i];
   }
+  if (keep_us)
+    for (std::size_t i = 0; i < len_q; ++i)
+      if (!SLOW[i])
+        for (int a = 0; a < kNs; ++a) bus[(qa + i) * kNs + a] = NU[a][i];
 }
 
 /// The bond pass of one block's mq bonds, chunk by chunk: chunks with no broken bond (nearly

@@ -23,6 +23,13 @@ inline constexpr std::ptrdiff_t kBlock = 256;
 template <int D>
 inline constexpr int kNsOf = D == 2 ? 1 : 3;
 
+/// A ParticleConst as the step loop reads it: the array, or the one value (loaded once).
+struct ParticleValues {
+  const double* all;
+  double one;
+  double operator[](std::size_t i) const { return all ? all[i] : one; }
+};
+
 /// A constant of each particle (radius, inverse mass), stored once while every particle has
 /// the same value (bit for bit) and one per particle from the first that differs: a model of
 /// one size and material keeps 16 bytes per particle fewer.
@@ -31,11 +38,18 @@ class ParticleConst {
   double operator[](std::size_t i) const { return all_.empty() ? one_ : all_[i]; }
   std::size_t size() const { return n_; }
   bool uniform() const { return all_.empty(); }
+  ParticleValues view() const { return {per_particle(), one_}; }
+  /// A pointer b such that b[i - first] is particle i's value, for i in the block of kBlock
+  /// particles from `first` (the step loop reads a block's values without a branch).
+  const double* block(std::size_t first) const { return all_.empty() ? fill_.data() : all_.data() + first; }
   /// The values one per particle, or nullptr while they are uniform.
   const double* per_particle() const { return all_.empty() ? nullptr : all_.data(); }
   void push_back(double value) {
     if (all_.empty()) {
-      if (n_ == 0) one_ = value;
+      if (n_ == 0) {
+        one_ = value;
+        fill_.assign(kBlock, value);
+      }
       if (std::bit_cast<std::uint64_t>(value) == std::bit_cast<std::uint64_t>(one_)) {
         ++n_;
         return;
@@ -63,6 +77,7 @@ class ParticleConst {
 
  private:
   std::vector<double> all_;
+  std::vector<double> fill_;  // kBlock copies of the one value (block())
   double one_ = 0;
   std::size_t n_ = 0;
 };
@@ -221,11 +236,15 @@ struct ModelData {
   std::vector<PendingPool> pend;  // per thread of the plan
 
   static constexpr std::size_t kRing = static_cast<std::size_t>(kRingBlocks * kBlock);
+  /// Distance between the ring's components: 16 doubles more than kRing, so that the same
+  /// particle's components do not lie a multiple of 4 KiB apart (a store to one and a load of
+  /// the next would then wait on each other: 10 % of a small model's step).
+  static constexpr std::size_t kRingStride = kRing + 16;
 
-  /// The entry of particle j, beyond the ring, in thread t's pool: component a at
-  /// [a * kBlock] of its block's slot, taken (zeroed) when the block has none yet. Valid
-  /// until the next call.
-  double* pending_far(int t, std::uint32_t j) {
+  /// Subtracts force F from the pending entry of particle j beyond the ring, in thread t's
+  /// pool: the slot of j's block, taken (zeroed) when the block has none yet. Out of line:
+  /// rare, and kept out of the step loop's registers.
+  [[gnu::noinline, gnu::cold]] void pending_far_sub(int t, std::uint32_t j, const double* F) {
     const std::size_t blk = j / kBlock;
     std::int32_t s = pend_slot[blk];
     PendingPool& P = pend[t];
@@ -239,7 +258,8 @@ struct ModelData {
       }
       pend_slot[blk] = s;
     }
-    return P.buf.data() + static_cast<std::size_t>(s) * (D * kBlock) + j % kBlock;
+    double* q = P.buf.data() + static_cast<std::size_t>(s) * (D * kBlock) + j % kBlock;
+    for (int a = 0; a < D; ++a) q[a * kBlock] -= F[a];
   }
   /// Block blk of thread t (whose range ends at particle e) is updated: its ring entries
   /// are zeroed, and the block kRingBlocks ahead, which takes its place in the ring, brings
@@ -250,7 +270,7 @@ struct ModelData {
     const std::ptrdiff_t nb = blk + kRingBlocks;
     const std::int32_t s = nb * kBlock < e ? pend_slot[static_cast<std::size_t>(nb)] : -1;
     for (int a = 0; a < D; ++a) {
-      double* r = P.ring.data() + a * kRing + at;
+      double* r = P.ring.data() + a * kRingStride + at;
       if (s < 0) {
         std::fill(r, r + kBlock, 0.0);
       } else {

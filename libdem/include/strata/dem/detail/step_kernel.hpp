@@ -375,8 +375,7 @@ class Engine final : public LawEngine<D> {
       X[a] = m.x[a].data();
       V[a] = m.v[a].data();
     }
-    const ParticleConst& R = m.rad;
-    const ParticleConst& IM = m.im;
+    const ParticleValues R = m.rad.view();
     const std::uint8_t* __restrict FL = m.flags.data();
     const std::uint32_t* __restrict boff = m.bonds.off.data();
     const std::uint32_t* __restrict bj = m.bonds.j.data();
@@ -395,22 +394,20 @@ class Engine final : public LawEngine<D> {
       VC[a] = V[a];
     }
 
-    // incoming cross contributions, ascending owner
-    // pending forces: the ring for partners before ring_end, a slot of its own further on
-    PendingPool& pool = m.pend[t];
-    double* __restrict RG = pool.ring.data();
+    // pending forces: the ring for partners before ring_end, a slot of their block's further on
+    double* __restrict RG = m.pend[t].ring.data();
     constexpr std::uint32_t kRingMask = ModelData<D>::kRing - 1;
     static_assert((ModelData<D>::kRing & kRingMask) == 0, "the ring's size is a power of two");
     std::uint32_t ring_end =
         static_cast<std::uint32_t>(std::min<std::ptrdiff_t>(e, b + kRingBlocks * kBlock));
     auto pend_sub = [&](std::uint32_t j, const double* Fp) {
       if (j < ring_end) [[likely]] {
-        for (int a = 0; a < D; ++a) RG[a * ModelData<D>::kRing + (j & kRingMask)] -= Fp[a];
+        for (int a = 0; a < D; ++a) RG[a * ModelData<D>::kRingStride + (j & kRingMask)] -= Fp[a];
       } else {
-        double* q = m.pending_far(t, j);
-        for (int a = 0; a < D; ++a) q[a * kBlock] -= Fp[a];
+        m.pending_far_sub(t, j, Fp);
       }
     };
+    // incoming cross contributions, ascending owner
     for (const Incoming& in : m.plan.in[t]) {
       const double* s = in.contact ? &m.cross_c[in.slot * (D + 1)] : &m.cross_b[in.slot * (D + 1)];
       pend_sub(in.target, s);
@@ -434,10 +431,13 @@ class Engine final : public LawEngine<D> {
       const double* __restrict SF[D];
       for (int a = 0; a < D; ++a) SF[a] = m.scratch[t].fb[a].data() - kb0;
       const double* __restrict SE = m.scratch[t].en.data() - kb0;
-      for (std::ptrdiff_t p = blk * kBlock; p < pe; ++p) {
+      const std::ptrdiff_t p0 = blk * kBlock;
+      const double* __restrict Rb = m.rad.block(static_cast<std::size_t>(p0));
+      const double* __restrict IMb = m.im.block(static_cast<std::size_t>(p0));
+      for (std::ptrdiff_t p = p0; p < pe; ++p) {
         double F[D];  // the forces of earlier particles' pairs and of the incoming cross pairs
         for (int a = 0; a < D; ++a)
-          F[a] = RG[a * ModelData<D>::kRing + (static_cast<std::uint32_t>(p) & kRingMask)];
+          F[a] = RG[a * ModelData<D>::kRingStride + (static_cast<std::uint32_t>(p) & kRingMask)];
         // bonds owned by p, then contacts owned by p (fixed order)
         for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
           const std::uint32_t j = bj[k];
@@ -476,7 +476,7 @@ class Engine final : public LawEngine<D> {
         for (std::size_t w = 0; w < nwalls; ++w) {
           double s = 0;
           for (int a = 0; a < D; ++a) s += (X[a][p] - W[w].p[a]) * W[w].n[a];
-          const double delta = R[p] - s;
+          const double delta = Rb[p - p0] - s;
           if (delta > 0) {
             double pw = 0;
             for (int a = 0; a < D; ++a) {
@@ -488,7 +488,7 @@ class Engine final : public LawEngine<D> {
             if constexpr (kEnergy) eb += 0.5 * W[w].k * delta * delta;
           }
         }
-        const double imass = IM[p];
+        const double imass = IMb[p - p0];
         double v2 = 0, vv = 0;
         if (!FL[p]) [[likely]] {
           double dp = 0;  // this particle's damping loss: one add per particle on the block's chain
@@ -550,7 +550,6 @@ class Engine final : public LawEngine<D> {
         if constexpr (kEnergy) ke += 0.5 * vv / imass;
       }
       m.pending_advance(t, blk, e);  // may move a slot into the ring
-      RG = pool.ring.data();
       ring_end = static_cast<std::uint32_t>(std::min<std::ptrdiff_t>(e, (blk + 1 + kRingBlocks) * kBlock));
       BlockAcc& A = m.acc[blk];
       A.work += work;
