@@ -98,6 +98,7 @@ void plot_xy(const PlotRequest& rq) {
 
   std::vector<vtkSmartPointer<vtkTable>> tables;                // kept alive until the render
   double xlo = 1e300, xhi = -1e300, ylo = 1e300, yhi = -1e300;  // shown data range
+  bool bars = false;                                            // any error bar drawn
   for (std::size_t k = 0; k < rq.series.size(); ++k) {
     const PlotSeries& ps = rq.series[k];
     STRATA_CHECK(ps.x.size() == ps.y.size(), Input,
@@ -149,6 +150,7 @@ void plot_xy(const PlotRequest& rq) {
       line->SetWidth(0.6f * width);
       line->LegendVisibilityOff();
       ylo = std::min(ylo, lo), yhi = std::max(yhi, hi);
+      bars = true;
     }
     if (ps.line) {
       vtkPlot* line = chart->AddPlot(vtkChart::LINE);
@@ -170,6 +172,12 @@ void plot_xy(const PlotRequest& rq) {
         pp->SetMarkerSize(6 * width);
       }
     }
+  }
+  if (bars && !rq.log_x && xhi > xlo) {  // a margin, so the end points' error bars clear the frame
+    const double pad = 0.04 * (xhi - xlo);
+    vtkAxis* ax = chart->GetAxis(vtkAxis::BOTTOM);
+    ax->SetBehavior(vtkAxis::FIXED);
+    ax->SetRange(xlo - pad, xhi + pad);
   }
   if (rq.log_x) log_ticks(chart->GetAxis(vtkAxis::BOTTOM), xlo, xhi);
   if (rq.log_y) log_ticks(chart->GetAxis(vtkAxis::LEFT), ylo, yhi);
