@@ -232,7 +232,8 @@ class Model final : public ModelBase, public ModelData<D> {
   /// Small models stay on one thread in set-up loops (a parallel region costs more than it
   /// saves there, and much more on a loaded machine).
   bool small_model() const {
-    return static_cast<std::ptrdiff_t>(n()) < 2 * std::max(1, settings.min_particles_per_thread);
+    return static_cast<std::ptrdiff_t>(n()) <
+           2 * static_cast<std::ptrdiff_t>(std::max(1, settings.min_particles_per_thread));
   }
 
   /// parallel_for for set-up loops (one thread for small models).
