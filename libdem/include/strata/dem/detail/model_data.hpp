@@ -23,13 +23,6 @@ inline constexpr std::ptrdiff_t kBlock = 256;
 template <int D>
 inline constexpr int kNsOf = D == 2 ? 1 : 3;
 
-/// A ParticleConst as the step loop reads it: the array, or the one value (loaded once).
-struct ParticleValues {
-  const double* all;
-  double one;
-  double operator[](std::size_t i) const { return all ? all[i] : one; }
-};
-
 /// A constant of each particle (radius, inverse mass), stored once while every particle has
 /// the same value (bit for bit) and one per particle from the first that differs: a model of
 /// one size and material keeps 16 bytes per particle fewer.
@@ -38,7 +31,6 @@ class ParticleConst {
   double operator[](std::size_t i) const { return all_.empty() ? one_ : all_[i]; }
   std::size_t size() const { return n_; }
   bool uniform() const { return all_.empty(); }
-  ParticleValues view() const { return {per_particle(), one_}; }
   /// A pointer b such that b[i - first] is particle i's value, for i in the block of kBlock
   /// particles from `first` (the step loop reads a block's values without a branch).
   const double* block(std::size_t first) const { return all_.empty() ? fill_.data() : all_.data() + first; }

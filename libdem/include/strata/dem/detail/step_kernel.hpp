@@ -375,7 +375,7 @@ class Engine final : public LawEngine<D> {
       X[a] = m.x[a].data();
       V[a] = m.v[a].data();
     }
-    const ParticleValues R = m.rad.view();
+    const ParticleConst& R = m.rad;  // R[j]: a contact's partner (a block's own: Rb below)
     const std::uint8_t* __restrict FL = m.flags.data();
     const std::uint32_t* __restrict boff = m.bonds.off.data();
     const std::uint32_t* __restrict bj = m.bonds.j.data();
