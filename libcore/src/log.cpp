@@ -1,5 +1,7 @@
 #include "strata/core/log.hpp"
 
+#include "strata/core/memory.hpp"
+
 #include <spdlog/sinks/stdout_color_sinks.h>
 
 namespace strata::log {
@@ -30,5 +32,15 @@ void init(Level level) {
       l.set_level(spdlog::level::trace);
       break;
   }
+}
+
+double Phases::lap(const char* phase) {
+  const auto now = Clock::now();
+  const double s = std::chrono::duration<double>(now - t_).count();
+  t_ = now;
+  if (get().should_log(spdlog::level::debug))
+    debug("{}: {} {:.3g} s (resident {:.2f} GB, peak {:.2f} GB)", task_, phase, s,
+          double(sys::rss_bytes()) * 1e-9, double(sys::peak_rss_bytes()) * 1e-9);
+  return s;
 }
 }  // namespace strata::log

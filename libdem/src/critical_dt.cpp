@@ -241,7 +241,8 @@ double Model<D>::lanczos() const {
   // some eigenvalue lies within the residual β·|s_k| of θ (s the Ritz vector in the Lanczos
   // basis; Parlett 1998), and once that residual is at most 1 % of θ, 1.01·θ covers the
   // interval; at most 60 steps (a 10 M-disk block needs about 20, each a product K·u over
-  // every bond).
+  // every bond). It also stops once (1 + margin)·θ reaches the rigorous bound (lam_bound, set
+  // before), which then gives the time step: a regular lattice gets there after about 16 steps.
   return n() * D <= 20000 ? lanczos_impl<double>() : lanczos_impl<float>();
 }
 
@@ -342,8 +343,11 @@ double Model<D>::lanczos_impl() const {
     beta = std::sqrt(b2);
     if (beta < 1e-12 * std::abs(alpha) || it == kmax - 1) break;
     if (large && it + 1 >= kMinSteps) {
+      // θ only grows with the steps (each tridiagonal matrix holds the last), so once
+      // (1 + margin)·θ reaches the rigorous bound, λ = min(bound, (1 + margin)·θ) is the bound
+      // whatever more steps give
       const auto [theta, residual] = largest_ritz(al, be, beta);
-      if (residual <= kMargin * theta) break;
+      if (residual <= kMargin * theta || (1 + kMargin) * theta >= lam_bound) break;
     }
     be.push_back(beta);
     par::parallel_for(ndi, [&](std::ptrdiff_t i) {

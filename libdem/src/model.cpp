@@ -240,38 +240,71 @@ void Model<D>::sort_particles() {
 
 // ---- read access ---------------------------------------------------------------------------
 template <int D>
-std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>& a) const {
-  std::vector<std::array<double, 3>> out(n(), {0, 0, 0});
-  for (std::size_t i = 0; i < n(); ++i)
-    for (int c = 0; c < D; ++c) out[i][c] = a[c][i];
+std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>& a,
+                                                  Rows rows) const {
+  std::vector<std::array<double, 3>> out(rows.count(n()), {0, 0, 0});
+  for (std::size_t k = 0; k < out.size(); ++k)
+    for (int c = 0; c < D; ++c) out[k][c] = a[c][rows[k]];
   return out;
 }
 
 template <int D>
-std::vector<std::array<double, 3>> Model<D>::displacements() const {
-  std::vector<std::array<double, 3>> out(n(), {0, 0, 0});
+std::vector<std::array<double, 3>> Model<D>::displacements(Rows rows) const {
+  std::vector<std::array<double, 3>> out(rows.count(n()), {0, 0, 0});
   if (!initialised) return out;
-  for (std::size_t i = 0; i < n(); ++i)
-    for (int c = 0; c < D; ++c) out[i][c] = x[c][i] - x0[c][i];
+  for (std::size_t k = 0; k < out.size(); ++k)
+    for (int c = 0; c < D; ++c) out[k][c] = x[c][rows[k]] - x0[c][rows[k]];
   return out;
 }
 
 template <int D>
-std::vector<float> Model<D>::damage() const {
-  std::vector<std::uint32_t> tot(n(), 0), brk(n(), 0);
-  for (std::size_t p = 0; p < n(); ++p)
+std::vector<double> Model<D>::radii(Rows rows) const {
+  if (rows.all) return rad.values();
+  std::vector<double> out(rows.list.size());
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = rad[rows[k]];
+  return out;
+}
+
+template <int D>
+std::vector<std::uint32_t> Model<D>::ids(Rows rows) const {
+  if (rows.all) return id;
+  std::vector<std::uint32_t> out(rows.list.size());
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = id[rows[k]];
+  return out;
+}
+
+namespace {
+/// Calls f(particle, broken) for both ends of every bond.
+template <typename F>
+void for_each_bond_end(const PairList& bonds, std::size_t n, F&& f) {
+  for (std::size_t p = 0; p < n; ++p)
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
-      const std::uint32_t j = bonds.j[k];
-      ++tot[p];
-      ++tot[j];
-      if ((bonds.st[k] & pair_state::kKindMask) != pair_state::kIntact) {
-        ++brk[p];
-        ++brk[j];
-      }
+      const bool broken = (bonds.st[k] & pair_state::kKindMask) != pair_state::kIntact;
+      f(p, broken);
+      f(std::size_t{bonds.j[k]}, broken);
     }
-  std::vector<float> out(n(), 0.f);
-  for (std::size_t i = 0; i < n(); ++i)
-    if (tot[i]) out[i] = static_cast<float>(brk[i]) / static_cast<float>(tot[i]);
+}
+}  // namespace
+
+template <int D>
+std::vector<std::uint8_t> Model<D>::bond_counts() const {
+  std::vector<std::uint8_t> count(n(), 0);
+  for_each_bond_end(bonds, n(),
+                    [&](std::size_t i, bool) { count[i] = std::uint8_t(count[i] + (count[i] < 255)); });
+  return count;
+}
+
+template <int D>
+std::vector<float> Model<D>::damage(Rows rows) const {
+  std::vector<std::uint32_t> tot(n(), 0), brk(n(), 0);
+  for_each_bond_end(bonds, n(), [&](std::size_t i, bool broken) {
+    ++tot[i];
+    brk[i] += broken;
+  });
+  std::vector<float> out(rows.count(n()), 0.f);
+  for (std::size_t k = 0; k < out.size(); ++k)
+    if (const std::size_t i = rows[k]; tot[i])
+      out[k] = static_cast<float>(brk[i]) / static_cast<float>(tot[i]);
   return out;
 }
 
@@ -342,10 +375,13 @@ template std::unique_ptr<ModelBase> make_model<3>(const Settings&);
   template void Model<D>::add_to_group(const std::vector<std::uint32_t>&, std::uint32_t);               \
   template std::vector<std::uint32_t> Model<D>::members(std::uint32_t) const;                           \
   template void Model<D>::sort_particles();                                                             \
-  template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>&) \
-      const;                                                                                            \
-  template std::vector<std::array<double, 3>> Model<D>::displacements() const;                          \
-  template std::vector<float> Model<D>::damage() const;                                                 \
+  template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>&, \
+                                                             Rows) const;                               \
+  template std::vector<std::array<double, 3>> Model<D>::displacements(Rows) const;                      \
+  template std::vector<double> Model<D>::radii(Rows) const;                                             \
+  template std::vector<std::uint32_t> Model<D>::ids(Rows) const;                                        \
+  template std::vector<std::uint8_t> Model<D>::bond_counts() const;                                     \
+  template std::vector<float> Model<D>::damage(Rows) const;                                             \
   template std::size_t Model<D>::memory_bytes() const;                                                  \
   template std::size_t Model<D>::streamed_bytes_per_step() const;
 STRATA_DEM_INSTANTIATE(2)

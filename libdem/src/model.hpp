@@ -24,6 +24,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -86,6 +87,14 @@ struct StateRefs {
   bool* contacts_on = nullptr;
 };
 
+/// The particles an accessor reads: every one in internal order (all), or listed internal rows.
+struct Rows {
+  std::span<const std::uint32_t> list;
+  bool all = true;
+  std::size_t count(std::size_t n) const { return all ? n : list.size(); }
+  std::size_t operator[](std::size_t k) const { return all ? k : list[k]; }
+};
+
 class ModelBase {
  public:
   virtual ~ModelBase() = default;
@@ -145,15 +154,16 @@ class ModelBase {
   virtual std::size_t contact_count() const = 0;
   virtual const std::vector<BreakEvent>& breaks() const = 0;
   virtual std::vector<std::array<std::uint32_t, 2>> touching_pairs() const = 0;
-  virtual std::vector<std::array<double, 3>> positions() const = 0;
-  virtual std::vector<std::array<double, 3>> velocities() const = 0;
-  virtual std::vector<std::array<double, 3>> displacements() const = 0;
-  virtual std::vector<double> radii() const = 0;
-  virtual std::vector<std::uint32_t> ids() const = 0;
+  virtual std::vector<std::array<double, 3>> positions(Rows rows) const = 0;
+  virtual std::vector<std::array<double, 3>> velocities(Rows rows) const = 0;
+  virtual std::vector<std::array<double, 3>> displacements(Rows rows) const = 0;
+  virtual std::vector<double> radii(Rows rows) const = 0;
+  virtual std::vector<std::uint32_t> ids(Rows rows) const = 0;
+  virtual std::vector<std::uint8_t> bond_counts() const = 0;
   /// Each particle's index into group_sets (internal order).
   virtual const std::vector<std::uint32_t>& particle_sets() const = 0;
-  virtual std::vector<float> damage() const = 0;
-  virtual std::vector<PairView> pairs(bool bonds) const = 0;
+  virtual std::vector<float> damage(Rows rows) const = 0;
+  virtual std::vector<PairView> pairs(PairSet which) const = 0;
   virtual std::size_t memory_bytes() const = 0;
   virtual std::size_t streamed_bytes_per_step() const = 0;
   virtual std::uint64_t state_hash() const = 0;
@@ -257,14 +267,15 @@ class Model final : public ModelBase, public ModelData<D> {
   std::vector<std::uint32_t> members(std::uint32_t group) const override;
   void bcs_changed() override { bcs_dirty = true; }
   void sort_particles();
-  std::vector<std::array<double, 3>> pack(const std::array<std::vector<double>, D>& a) const;
-  std::vector<std::array<double, 3>> positions() const override { return pack(x); }
-  std::vector<std::array<double, 3>> velocities() const override { return pack(v); }
-  std::vector<std::array<double, 3>> displacements() const override;
-  std::vector<double> radii() const override { return rad.values(); }
-  std::vector<std::uint32_t> ids() const override { return id; }
+  std::vector<std::array<double, 3>> pack(const std::array<std::vector<double>, D>& a, Rows rows) const;
+  std::vector<std::array<double, 3>> positions(Rows rows) const override { return pack(x, rows); }
+  std::vector<std::array<double, 3>> velocities(Rows rows) const override { return pack(v, rows); }
+  std::vector<std::array<double, 3>> displacements(Rows rows) const override;
+  std::vector<double> radii(Rows rows) const override;
+  std::vector<std::uint32_t> ids(Rows rows) const override;
+  std::vector<std::uint8_t> bond_counts() const override;
   const std::vector<std::uint32_t>& particle_sets() const override { return grp; }
-  std::vector<float> damage() const override;
+  std::vector<float> damage(Rows rows) const override;
   std::size_t memory_bytes() const override;
   std::size_t streamed_bytes_per_step() const override;
 
@@ -359,7 +370,7 @@ class Model final : public ModelBase, public ModelData<D> {
   std::size_t contact_count() const override;
   const std::vector<BreakEvent>& breaks() const override { return events; }
   std::vector<std::array<std::uint32_t, 2>> touching_pairs() const override;
-  std::vector<PairView> pairs(bool want_bonds) const override;
+  std::vector<PairView> pairs(PairSet which) const override;
 
   // ---- checkpoints and state hash (state.cpp) --------------------------------------------
   std::uint64_t state_hash() const override;

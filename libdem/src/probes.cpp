@@ -113,9 +113,9 @@ std::vector<std::array<std::uint32_t, 2>> Model<D>::touching_pairs() const {
 }
 
 template <int D>
-std::vector<PairView> Model<D>::pairs(bool want_bonds) const {
+std::vector<PairView> Model<D>::pairs(PairSet which) const {
   if (!engine) return {};
-  return engine->pairs(*this, want_bonds);
+  return engine->pairs(*this, which);
 }
 
 #define STRATA_DEM_INSTANTIATE(D)                                                      \
@@ -130,7 +130,7 @@ std::vector<PairView> Model<D>::pairs(bool want_bonds) const {
   template std::size_t Model<D>::broken_count(int) const;                              \
   template std::size_t Model<D>::contact_count() const;                                \
   template std::vector<std::array<std::uint32_t, 2>> Model<D>::touching_pairs() const; \
-  template std::vector<PairView> Model<D>::pairs(bool) const;
+  template std::vector<PairView> Model<D>::pairs(PairSet) const;
 STRATA_DEM_INSTANTIATE(2)
 STRATA_DEM_INSTANTIATE(3)
 #undef STRATA_DEM_INSTANTIATE

@@ -81,6 +81,21 @@ std::vector<T> per_particle(const detail::ModelBase& m, const std::vector<T>& of
   for (std::size_t i = 0; i < sets.size(); ++i) out[i] = of_set[sets[i]];
   return out;
 }
+
+/// Per group set: the last group it holds, -1 for none.
+std::vector<std::int32_t> last_group_of_set(const detail::ModelBase& m) {
+  std::vector<std::int32_t> of_set;
+  for (const auto& s : m.group_sets) of_set.push_back(s.empty() ? -1 : static_cast<std::int32_t>(s.back()));
+  return of_set;
+}
+
+/// Listed internal rows, each checked against the particle count.
+detail::Rows listed(const detail::ModelBase& m, std::span<const std::uint32_t> rows) {
+  const std::size_t n = m.particle_count();
+  for (const std::uint32_t r : rows)
+    STRATA_CHECK(r < n, Input, "particle row {} is out of range: the model has {} particles", r, n);
+  return {rows, false};
+}
 }  // namespace
 
 std::vector<std::uint32_t> Simulation::group_members(const std::string& name) const {
@@ -91,10 +106,14 @@ std::vector<std::uint8_t> Simulation::in_groups(const std::vector<std::string>& 
   for (const auto& name : names) groups.push_back(existing_group(*m_, name));
   return per_particle(*m_, m_->sets_holding(groups));
 }
-std::vector<std::int32_t> Simulation::last_group() const {
-  std::vector<std::int32_t> of_set;
-  for (const auto& s : m_->group_sets) of_set.push_back(s.empty() ? -1 : static_cast<std::int32_t>(s.back()));
-  return per_particle(*m_, of_set);
+std::vector<std::int32_t> Simulation::last_group() const { return per_particle(*m_, last_group_of_set(*m_)); }
+std::vector<std::int32_t> Simulation::last_group(std::span<const std::uint32_t> rows) const {
+  const auto of_set = last_group_of_set(*m_);
+  const auto& sets = m_->particle_sets();
+  const detail::Rows r = listed(*m_, rows);
+  std::vector<std::int32_t> out(rows.size());
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = of_set[sets[r[k]]];
+  return out;
 }
 
 const std::vector<std::string>& Simulation::group_names() const { return m_->group_names; }
@@ -227,14 +246,34 @@ std::size_t Simulation::bond_count() const { return m_->bond_count(); }
 std::size_t Simulation::contact_count() const { return m_->contact_count(); }
 const std::vector<BreakEvent>& Simulation::breaks() const { return m_->breaks(); }
 std::vector<std::array<std::uint32_t, 2>> Simulation::touching_pairs() const { return m_->touching_pairs(); }
-std::vector<std::array<double, 3>> Simulation::positions() const { return m_->positions(); }
-std::vector<std::array<double, 3>> Simulation::velocities() const { return m_->velocities(); }
-std::vector<std::array<double, 3>> Simulation::displacements() const { return m_->displacements(); }
-std::vector<double> Simulation::radii() const { return m_->radii(); }
-std::vector<std::uint32_t> Simulation::ids() const { return m_->ids(); }
-std::vector<float> Simulation::damage() const { return m_->damage(); }
-std::vector<PairView> Simulation::bonds() const { return m_->pairs(true); }
-std::vector<PairView> Simulation::contacts() const { return m_->pairs(false); }
+std::vector<std::array<double, 3>> Simulation::positions() const { return m_->positions({}); }
+std::vector<std::array<double, 3>> Simulation::velocities() const { return m_->velocities({}); }
+std::vector<std::array<double, 3>> Simulation::displacements() const { return m_->displacements({}); }
+std::vector<double> Simulation::radii() const { return m_->radii({}); }
+std::vector<std::uint32_t> Simulation::ids() const { return m_->ids({}); }
+std::vector<float> Simulation::damage() const { return m_->damage({}); }
+std::vector<std::array<double, 3>> Simulation::positions(std::span<const std::uint32_t> rows) const {
+  return m_->positions(listed(*m_, rows));
+}
+std::vector<std::array<double, 3>> Simulation::velocities(std::span<const std::uint32_t> rows) const {
+  return m_->velocities(listed(*m_, rows));
+}
+std::vector<std::array<double, 3>> Simulation::displacements(std::span<const std::uint32_t> rows) const {
+  return m_->displacements(listed(*m_, rows));
+}
+std::vector<double> Simulation::radii(std::span<const std::uint32_t> rows) const {
+  return m_->radii(listed(*m_, rows));
+}
+std::vector<std::uint32_t> Simulation::ids(std::span<const std::uint32_t> rows) const {
+  return m_->ids(listed(*m_, rows));
+}
+std::vector<float> Simulation::damage(std::span<const std::uint32_t> rows) const {
+  return m_->damage(listed(*m_, rows));
+}
+std::vector<std::uint8_t> Simulation::bond_counts() const { return m_->bond_counts(); }
+std::vector<PairView> Simulation::bonds() const { return m_->pairs(detail::PairSet::Bonds); }
+std::vector<PairView> Simulation::broken_bonds() const { return m_->pairs(detail::PairSet::BrokenBonds); }
+std::vector<PairView> Simulation::contacts() const { return m_->pairs(detail::PairSet::Contacts); }
 std::vector<WallView> Simulation::walls() const {
   std::vector<WallView> out;
   for (const detail::Wall& w : m_->walls)

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 namespace strata::scene {
 
@@ -21,127 +22,42 @@ io::Array vector_array(const char* name, const std::vector<std::array<double, 3>
   for (const auto& x : v) a.values.insert(a.values.end(), x.begin(), x.end());
   return a;
 }
-}  // namespace
 
-io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std::string>& fields) {
-  io::PointCloud pc;
-  pc.dim = sim.dim();
-  pc.time = sim.time();
-  pc.step = sim.step_count();
-  const auto pos = sim.positions();
-  pc.xyz.reserve(pos.size() * 3);
-  for (const auto& p : pos) pc.xyz.insert(pc.xyz.end(), p.begin(), p.end());
-
-  const auto r = sim.radii();
-  pc.point_data.push_back({std::string(io::kRadiusArray), 1, {r.begin(), r.end()}, io::ArrayType::Float64});
-  if (wants(fields, "id")) {
-    const auto ids = sim.ids();
-    pc.point_data.push_back({"id", 1, {ids.begin(), ids.end()}, io::ArrayType::Int64});
-  }
-  if (wants(fields, "displacement"))
-    pc.point_data.push_back(vector_array("displacement", sim.displacements()));
-  if (wants(fields, "velocity")) pc.point_data.push_back(vector_array("velocity", sim.velocities()));
-  if (wants(fields, "force")) {
-    // Sum of the bond and contact forces on each particle, from the pairs' forces on their
-    // first particle (an output-time gather; the step loop keeps no force array).
-    io::Array f{"force", 3, std::vector<double>(pos.size() * 3, 0.0), io::ArrayType::Float64};
-    auto add = [&](const std::vector<dem::PairView>& pairs) {
-      for (const auto& p : pairs)
-        for (int a = 0; a < 3; ++a) {
-          f.values[p.i * 3 + a] += p.force_on_i[a];
-          f.values[p.j * 3 + a] -= p.force_on_i[a];
-        }
-    };
-    add(sim.bonds());
-    add(sim.contacts());
-    pc.point_data.push_back(std::move(f));
-  }
-  if (wants(fields, "group")) {
-    const auto g = sim.last_group();
-    pc.point_data.push_back({"group", 1, {g.begin(), g.end()}, io::ArrayType::Int64});
-  }
-  if (wants(fields, "shear_strain") && sim.dim() == 2) {
-    const auto u = sim.displacements();
-    std::vector<std::array<double, 3>> start(pos.size());
-    for (std::size_t i = 0; i < pos.size(); ++i)
-      for (int a = 0; a < 3; ++a) start[i][a] = pos[i][a] - u[i][a];
-    const auto g = shear_strain_since_start(start, pos, r);
-    pc.point_data.push_back({"shear_strain", 1, {g.begin(), g.end()}, io::ArrayType::Float32});
-  }
-  if (wants(fields, "damage")) {
-    const auto d = sim.damage();
-    pc.point_data.push_back({"damage", 1, {d.begin(), d.end()}, io::ArrayType::Float32});
-  }
-  return pc;
-}
-
-void FrameSelection::find_surface(const dem::Simulation& sim) {
-  const auto ids = sim.ids();
-  std::vector<int> count(ids.size(), 0);
-  for (const auto& b : sim.bonds()) ++count[ids[b.i]], ++count[ids[b.j]];
-  const int inside = sim.dim() == 2 ? 6 : 12;  // coordination of the hex / close-packed lattice
-  surface_by_id.assign(ids.size(), 0);
-  for (std::size_t id = 0; id < count.size(); ++id) surface_by_id[id] = count[id] < inside;
-}
-
-bool FrameSelection::in_groups_and_slice(bool in_group, const double* x) const {
-  if (!groups.empty() && !in_group) return false;
-  if (slice_thickness > 0) {
-    double dist = 0;
-    for (int a = 0; a < 3; ++a) dist += (x[a] - slice_point[a]) * slice_normal[a];
-    if (std::abs(dist) > slice_thickness / 2) return false;
-  }
-  return true;
-}
-
-io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud& all,
-                                const FrameSelection& sel) {
-  if (sel.keeps_all()) return all;
-  const auto ids = sim.ids();
-  const auto in_group =
-      sel.groups.empty() ? std::vector<std::uint8_t>(all.size(), 1) : sim.in_groups(sel.groups);
-  std::vector<std::size_t> keep;
-  if (sel.particles != FrameSelection::Particles::None) {
-    for (std::size_t i = 0; i < all.size(); ++i) {
-      if (sel.particles == FrameSelection::Particles::Surface && !sel.surface_by_id[ids[i]]) continue;
-      if (!sel.in_groups_and_slice(in_group[i], &all.xyz[3 * i])) continue;
-      keep.push_back(i);
-    }
-  }
-  io::PointCloud out;
-  out.dim = all.dim;
-  out.time = all.time;
-  out.step = all.step;
-  out.xyz.reserve(keep.size() * 3);
-  for (std::size_t i : keep) out.xyz.insert(out.xyz.end(), &all.xyz[3 * i], &all.xyz[3 * i] + 3);
-  for (const auto& a : all.point_data) {
-    io::Array b{a.name, a.components, {}, a.type};
-    b.values.reserve(keep.size() * std::size_t(a.components));
-    for (std::size_t i : keep)
-      b.values.insert(b.values.end(), a.values.begin() + std::ptrdiff_t(i * a.components),
-                      a.values.begin() + std::ptrdiff_t((i + 1) * a.components));
-    out.point_data.push_back(std::move(b));
-  }
+/// The entries of a per-particle array (`components` values per particle, internal order) at `rows`.
+template <typename T>
+std::vector<double> at_rows(const std::vector<T>& all, int components, std::span<const std::uint32_t> rows) {
+  const auto c = std::size_t(components);
+  std::vector<double> out;
+  out.reserve(rows.size() * c);
+  for (const std::uint32_t r : rows)
+    out.insert(out.end(), all.begin() + std::ptrdiff_t(r * c), all.begin() + std::ptrdiff_t((r + 1) * c));
   return out;
 }
 
-io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
+/// 0, 1, ..., n - 1.
+std::vector<std::uint32_t> every_row(std::size_t n) {
+  std::vector<std::uint32_t> rows(n);
+  std::iota(rows.begin(), rows.end(), 0u);
+  return rows;
+}
+
+/// Rows are visited in chunks of this many, so that a selection of a large model never holds
+/// a copy of every particle's position.
+constexpr std::size_t kRowChunk = 1u << 16;
+
+/// The bonds and contacts of bond_frame, those whose two particles pass `pass` (empty: all).
+io::LineSet selected_bonds(const dem::Simulation& sim, const FrameSelection& sel,
+                           const std::vector<std::uint8_t>& pass) {
   io::LineSet ls;
   io::Array state{std::string(io::kBondStateArray), 1, {}, io::ArrayType::UInt8};
   io::Array fn{"Fn", 1, {}, io::ArrayType::Float64}, fs{"Fs", 1, {}, io::ArrayType::Float64};
   const auto which = sel.bonds;
-  const auto bonds = which == FrameSelection::Bonds::None ? std::vector<dem::PairView>{} : sim.bonds();
-  const bool filtered = !sel.groups.empty() || sel.slice_thickness > 0;
-  const auto pos = filtered || sel.contacts ? sim.positions() : std::vector<std::array<double, 3>>{};
-  const auto in_group =
-      filtered && !sel.groups.empty() ? sim.in_groups(sel.groups) : std::vector<std::uint8_t>(pos.size(), 1);
+  const auto bonds = which == FrameSelection::Bonds::All      ? sim.bonds()
+                     : which == FrameSelection::Bonds::Broken ? sim.broken_bonds()
+                                                              : std::vector<dem::PairView>{};
   // A pair is written when both its particles pass the group and slice selection.
-  auto selected = [&](const dem::PairView& p) {
-    return !filtered || (sel.in_groups_and_slice(in_group[p.i], pos[p.i].data()) &&
-                         sel.in_groups_and_slice(in_group[p.j], pos[p.j].data()));
-  };
+  auto selected = [&](const dem::PairView& p) { return pass.empty() || (pass[p.i] && pass[p.j]); };
   for (const auto& b : bonds) {
-    if (b.kind == dem::PairKind::Intact && which == FrameSelection::Bonds::Broken) continue;
     if (!selected(b)) continue;
     ls.ends.push_back(b.i);
     ls.ends.push_back(b.j);
@@ -168,6 +84,162 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
   }
   ls.cell_data = {std::move(state), std::move(fn), std::move(fs)};
   return ls;
+}
+}  // namespace
+
+io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std::string>& fields) {
+  return particle_frame(sim, fields, every_row(sim.particle_count()));
+}
+
+io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std::string>& fields,
+                              std::span<const std::uint32_t> rows) {
+  io::PointCloud pc;
+  pc.dim = sim.dim();
+  pc.time = sim.time();
+  pc.step = sim.step_count();
+  const auto pos = sim.positions(rows);
+  pc.xyz.reserve(pos.size() * 3);
+  for (const auto& p : pos) pc.xyz.insert(pc.xyz.end(), p.begin(), p.end());
+
+  const auto r = sim.radii(rows);
+  pc.point_data.push_back({std::string(io::kRadiusArray), 1, {r.begin(), r.end()}, io::ArrayType::Float64});
+  if (wants(fields, "id")) {
+    const auto ids = sim.ids(rows);
+    pc.point_data.push_back({"id", 1, {ids.begin(), ids.end()}, io::ArrayType::Int64});
+  }
+  if (wants(fields, "displacement"))
+    pc.point_data.push_back(vector_array("displacement", sim.displacements(rows)));
+  if (wants(fields, "velocity")) pc.point_data.push_back(vector_array("velocity", sim.velocities(rows)));
+  if (wants(fields, "force")) {
+    // Sum of the bond and contact forces on each particle, from the pairs' forces on their
+    // first particle (an output-time gather over every pair; the step loop keeps no force array).
+    std::vector<double> f(sim.particle_count() * 3, 0.0);
+    auto add = [&](const std::vector<dem::PairView>& pairs) {
+      for (const auto& p : pairs)
+        for (int a = 0; a < 3; ++a) {
+          f[p.i * 3 + a] += p.force_on_i[a];
+          f[p.j * 3 + a] -= p.force_on_i[a];
+        }
+    };
+    add(sim.bonds());
+    add(sim.contacts());
+    pc.point_data.push_back({"force", 3, at_rows(f, 3, rows), io::ArrayType::Float64});
+  }
+  if (wants(fields, "group")) {
+    const auto g = sim.last_group(rows);
+    pc.point_data.push_back({"group", 1, {g.begin(), g.end()}, io::ArrayType::Int64});
+  }
+  if (wants(fields, "shear_strain") && sim.dim() == 2) {
+    // each particle's strain from its neighbours: computed over all particles
+    const auto now = sim.positions();
+    const auto u = sim.displacements();
+    std::vector<std::array<double, 3>> start(now.size());
+    for (std::size_t i = 0; i < now.size(); ++i)
+      for (int a = 0; a < 3; ++a) start[i][a] = now[i][a] - u[i][a];
+    const auto g = shear_strain_since_start(start, now, sim.radii());
+    pc.point_data.push_back({"shear_strain", 1, at_rows(g, 1, rows), io::ArrayType::Float32});
+  }
+  if (wants(fields, "damage")) {
+    const auto d = sim.damage(rows);
+    pc.point_data.push_back({"damage", 1, {d.begin(), d.end()}, io::ArrayType::Float32});
+  }
+  return pc;
+}
+
+void FrameSelection::find_surface(const dem::Simulation& sim) {
+  const auto ids = sim.ids();
+  const auto count = sim.bond_counts();        // every bond entry, broken or not
+  const int inside = sim.dim() == 2 ? 6 : 12;  // coordination of the hex / close-packed lattice
+  surface_by_id.assign(ids.size(), 0);
+  for (std::size_t i = 0; i < count.size(); ++i) surface_by_id[ids[i]] = count[i] < inside;
+}
+
+bool FrameSelection::in_groups_and_slice(bool in_group, const double* x) const {
+  if (!groups.empty() && !in_group) return false;
+  if (slice_thickness > 0) {
+    double dist = 0;
+    for (int a = 0; a < 3; ++a) dist += (x[a] - slice_point[a]) * slice_normal[a];
+    if (std::abs(dist) > slice_thickness / 2) return false;
+  }
+  return true;
+}
+
+std::vector<std::uint8_t> FrameSelection::passes(const dem::Simulation& sim) const {
+  if (groups.empty() && slice_thickness == 0) return {};
+  const std::size_t n = sim.particle_count();
+  std::vector<std::uint8_t> pass = groups.empty() ? std::vector<std::uint8_t>(n, 1) : sim.in_groups(groups);
+  if (slice_thickness == 0) return pass;
+  std::vector<std::uint32_t> chunk;
+  for (std::size_t first = 0; first < n; first += kRowChunk) {
+    chunk.resize(std::min(kRowChunk, n - first));
+    std::iota(chunk.begin(), chunk.end(), std::uint32_t(first));
+    const auto pos = sim.positions(chunk);
+    for (std::size_t k = 0; k < chunk.size(); ++k)
+      pass[first + k] = in_groups_and_slice(pass[first + k], pos[k].data());
+  }
+  return pass;
+}
+
+std::vector<std::uint32_t> FrameSelection::particle_rows(const dem::Simulation& sim,
+                                                         const std::vector<std::uint8_t>& pass) const {
+  std::vector<std::uint32_t> rows;
+  if (particles == Particles::None) return rows;
+  const bool surface = particles == Particles::Surface;
+  const auto ids = surface ? sim.ids() : std::vector<std::uint32_t>{};
+  for (std::size_t i = 0; i < sim.particle_count(); ++i)
+    if ((pass.empty() || pass[i]) && (!surface || surface_by_id[ids[i]])) rows.push_back(std::uint32_t(i));
+  return rows;
+}
+
+io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel) {
+  return selected_bonds(sim, sel, sel.passes(sim));
+}
+
+io::PointCloud SelectedFrame::particles() const {
+  if (kept.size() == points.size()) return points;
+  io::PointCloud out;
+  out.dim = points.dim;
+  out.time = points.time;
+  out.step = points.step;
+  out.xyz.reserve(kept.size() * 3);
+  for (std::size_t i : kept) out.xyz.insert(out.xyz.end(), &points.xyz[3 * i], &points.xyz[3 * i] + 3);
+  for (const auto& a : points.point_data) {
+    io::Array b{a.name, a.components, {}, a.type};
+    const auto c = std::size_t(a.components);
+    b.values.reserve(kept.size() * c);
+    for (std::size_t i : kept)
+      b.values.insert(b.values.end(), a.values.begin() + std::ptrdiff_t(i * c),
+                      a.values.begin() + std::ptrdiff_t((i + 1) * c));
+    out.point_data.push_back(std::move(b));
+  }
+  return out;
+}
+
+SelectedFrame selected_frame(const dem::Simulation& sim, const std::vector<std::string>& fields,
+                             const FrameSelection& sel, bool every_point) {
+  SelectedFrame f;
+  const std::size_t n = sim.particle_count();
+  const auto pass = sel.passes(sim);
+  const auto rows = sel.keeps_all() ? every_row(n) : sel.particle_rows(sim, pass);
+  f.bonds = selected_bonds(sim, sel, pass);
+  // The points: the written particles and the bonds' ends, in internal order.
+  if (every_point || rows.size() == n) {
+    f.rows = every_row(n);
+  } else {
+    std::vector<std::uint8_t> used(n, 0);
+    for (const std::uint32_t r : rows) used[r] = 1;
+    for (const std::uint32_t e : f.bonds.ends) used[e] = 1;
+    for (std::size_t i = 0; i < n; ++i)
+      if (used[i]) f.rows.push_back(std::uint32_t(i));
+  }
+  auto index_of = [&](std::uint32_t row) {
+    return std::size_t(std::lower_bound(f.rows.begin(), f.rows.end(), row) - f.rows.begin());
+  };
+  for (auto& e : f.bonds.ends) e = index_of(std::uint32_t(e));
+  f.kept.reserve(rows.size());
+  for (const std::uint32_t r : rows) f.kept.push_back(index_of(r));
+  f.points = particle_frame(sim, fields, f.rows);
+  return f;
 }
 
 io::MeshFrame fem_frame(const fem::Mesh& mesh, const Eigen::VectorXd& u, const Eigen::VectorXd& v,

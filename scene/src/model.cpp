@@ -744,9 +744,12 @@ BuiltModel build_model(const Scene& sc, bool force) {
   m.dim = dim;
   m.dem_ = std::make_unique<dem::Simulation>(dim, set);
   dem::Simulation& sim = *m.dem_;
+  log::Phases ph("scene set-up");
   {
     ModelDescription d = describe_model(sc, /*allow_fem=*/false);
+    ph.lap("regions filled, groups selected");
     populate_particles(sc, d, sim, m);
+    ph.lap("particles, groups, bonds and loads");
   }  // the simulation holds the particles now
 
   // Time step: automatic (dt_safety × dt_crit) or checked against dt_crit. The model is
@@ -754,6 +757,7 @@ BuiltModel build_model(const Scene& sc, bool force) {
   m.dt_automatic = solver.dt == 0.0;
   sim.set_dt(std::numeric_limits<double>::min());
   sim.initialise();
+  ph.lap("model initialised");
   m.dt_crit = sim.critical_dt();
   if (!(m.dt_crit > 0 && std::isfinite(m.dt_crit)) && !sc.materials.empty()) {
     // Stiffnesses (or masses) out of any physical range: point at the stiffest spring.

@@ -210,10 +210,13 @@ RunResult Run::Impl::execute(RunObserver& observer) {
          (dir / "probes.csv").string());
   }
   const double run_seconds = seconds_since(t0);
+  log::Phases ph("run");
+  ph.lap("stepped, frames written");
   // A checkpoint at the end lets a later `--restart` (with more steps) continue the run.
   if (STRATA_WITH_HDF5 && opt.final_checkpoint) {
     result.checkpoint = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
     out.add_written(result.checkpoint);
+    ph.lap("checkpoint written");
   }
   out.finish(m, model, run_seconds, "completed");
   RunResult r = finish_result();

@@ -263,16 +263,18 @@ class RunOutput {
       const fem::Solver& f = m.fem();
       mesh = fem_frame(f.mesh(), f.u(), f.v(), m.time(), m.step_count());
     }
-    std::optional<io::PointCloud> particles;
-    if (particles_on_) particles = particle_frame(m.sim(), fields_);
+    std::optional<SelectedFrame> particles;
+    // a coupled frame's points are all particles: show_overlap places them
+    if (particles_on_) particles = selected_frame(m.sim(), fields_, selection_, m.coupled());
     if (m.coupled())  // the state after the overlap exchange
-      show_overlap(m.coupler(), m.sim(), m.dim, mesh ? &*mesh : nullptr, particles ? &*particles : nullptr);
+      show_overlap(m.coupler(), m.sim(), m.dim, mesh ? &*mesh : nullptr,
+                   particles ? &particles->points : nullptr);
     if (mesh) fem_->add_mesh(m.time(), *mesh);
     if (!particles_on_) return;
     const auto& sim = m.sim();
-    const io::PointCloud& all = *particles;
-    const io::PointCloud pc = select_particles(sim, all, selection_);
-    const io::LineSet bonds = bond_frame(sim, selection_);
+    const io::PointCloud& all = particles->points;
+    const io::PointCloud pc = particles->particles();
+    const io::LineSet& bonds = particles->bonds;
     particles_->add_particles(sim.time(), pc);
     bonds_->add_lines(sim.time(), all, bonds);
     std::optional<io::MeshFrame> walls;

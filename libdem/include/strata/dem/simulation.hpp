@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -139,6 +140,7 @@ class Simulation {
   /// Per particle (internal order): the group_index of the last-made group it belongs to
   /// (the most specific one where groups refine regions), -1 for none.
   std::vector<std::int32_t> last_group() const;
+  std::vector<std::int32_t> last_group(std::span<const std::uint32_t> rows) const;
   /// Names of the groups, by group_index (the values of last_group()).
   const std::vector<std::string>& group_names() const;
 
@@ -260,7 +262,21 @@ class Simulation {
   std::vector<std::uint32_t> ids() const;
   /// Fraction of each particle's initial bonds that are broken.
   std::vector<float> damage() const;
+  /// The same at some internal rows (each below particle_count()), in the order given: what
+  /// the frames of a large model read for the particles they write, without a copy of all.
+  std::vector<std::array<double, 3>> positions(std::span<const std::uint32_t> rows) const;
+  std::vector<std::array<double, 3>> velocities(std::span<const std::uint32_t> rows) const;
+  std::vector<std::array<double, 3>> displacements(std::span<const std::uint32_t> rows) const;
+  std::vector<double> radii(std::span<const std::uint32_t> rows) const;
+  std::vector<std::uint32_t> ids(std::span<const std::uint32_t> rows) const;
+  std::vector<float> damage(std::span<const std::uint32_t> rows) const;
+  /// Bond entries of each particle, intact or broken (internal order); 255 stands for 255 or
+  /// more.
+  std::vector<std::uint8_t> bond_counts() const;
   std::vector<PairView> bonds() const;
+  /// The bonds that have broken, as bonds() lists them (a crack frame of a large model
+  /// without a view of every intact bond).
+  std::vector<PairView> broken_bonds() const;
   std::vector<PairView> contacts() const;
   /// The walls in the order they were added, where they are now.
   std::vector<WallView> walls() const;

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,13 @@ struct FrameSelection {
   /// Whether a particle in one of `groups` or not (`in_group`) with this centre passes the
   /// group and slice selection (not the surface one).
   bool in_groups_and_slice(bool in_group, const double* x) const;
+  /// Per particle (internal order): 1 when it passes the group and slice selection; empty
+  /// when every particle does.
+  std::vector<std::uint8_t> passes(const dem::Simulation& sim) const;
+  /// Internal rows, ascending, of the particles the particle frames hold: those that pass
+  /// (`pass` from passes()) and, for Particles::Surface, lie on the surface (find_surface).
+  std::vector<std::uint32_t> particle_rows(const dem::Simulation& sim,
+                                           const std::vector<std::uint8_t>& pass) const;
 };
 
 /// Particles as points with the requested fields (id, radius, displacement, velocity, force,
@@ -42,10 +50,10 @@ struct FrameSelection {
 /// `group` is the index of the last-made group a particle belongs to (regions first, then
 /// each [[group]], in scene order), -1 for none.
 io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std::string>& fields);
-
-/// The points of `all` that `sel` keeps (all of them when sel.keeps_all()).
-io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud& all,
-                                const FrameSelection& sel);
+/// The same for the particles at these internal rows, in that order. Fields are read for
+/// those particles only, except `force` and `shear_strain`, which are gathered over all.
+io::PointCloud particle_frame(const dem::Simulation& sim, const std::vector<std::string>& fields,
+                              std::span<const std::uint32_t> rows);
 
 /// Bonds and contacts as line cells with state (io::BondState codes), Fn and Fs, indexing
 /// the points of particle_frame: the bonds sel.bonds asks for (broken ones or all), then,
@@ -53,6 +61,21 @@ io::PointCloud select_particles(const dem::Simulation& sim, const io::PointCloud
 /// each, those whose two particles pass the group and slice selection. A broken bond's state
 /// is its current one: Closed while it touches again after having opened, else its mode.
 io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel);
+
+/// One frame of the particles as a selection has them, read for the particles it writes
+/// only, so that a frame of a large model costs memory in proportion to what it writes.
+struct SelectedFrame {
+  std::vector<std::uint32_t> rows;  ///< internal rows of `points`, ascending
+  io::PointCloud points;            ///< the written particles and the ends of the written bonds
+  std::vector<std::size_t> kept;    ///< indices into `points` of the written particles
+  io::LineSet bonds;                ///< bond_frame's lines, indexing `points`
+  /// The written particles (all of `points` when they are all written).
+  io::PointCloud particles() const;
+};
+/// The frame of `sim` with `fields` that `sel` selects; with `every_point`, `points` holds
+/// every particle (as particle_frame), which show_overlap needs.
+SelectedFrame selected_frame(const dem::Simulation& sim, const std::vector<std::string>& fields,
+                             const FrameSelection& sel, bool every_point);
 
 /// A FEM mesh and its state as an io::MeshFrame: nodes (z = 0 in 2D, y = z = 0 in 1D),
 /// cells (Tri3 triangles, Tet4 tetrahedra, Bar and Spring lines), point arrays

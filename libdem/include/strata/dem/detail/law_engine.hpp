@@ -15,6 +15,9 @@
 
 namespace strata::dem::detail {
 
+/// Which pairs LawEngine::pairs lists.
+enum class PairSet : std::uint8_t { Bonds, BrokenBonds, Contacts };
+
 /// The pair law's part of a model of dimension D: the step loop and the probes that
 /// evaluate pair forces, compiled for one law (step_kernel.hpp).
 template <int D>
@@ -37,8 +40,8 @@ class LawEngine {
   /// set_in_group[s] says whether the particles of group set s belong to it.
   virtual std::array<double, 3> group_force(const ModelData<D>& m, const Wall* walls, std::size_t nwalls,
                                             double dt, const std::uint8_t* set_in_group) const = 0;
-  /// Bonds or contacts with their forces at the current state.
-  virtual std::vector<PairView> pairs(const ModelData<D>& m, bool bonds) const = 0;
+  /// Bonds (all or the broken ones) or contacts with their forces at the current state.
+  virtual std::vector<PairView> pairs(const ModelData<D>& m, PairSet which) const = 0;
 };
 
 /// Random bond states for the conformance test of a law (tests/dem/test_law_conformance.cpp):

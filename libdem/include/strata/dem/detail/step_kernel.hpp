@@ -131,18 +131,20 @@ class Engine final : public LawEngine<D> {
     return {r.c[0], r.c[1], r.c[2]};
   }
 
-  std::vector<PairView> pairs(const ModelData<D>& m, bool want_bonds) const override {
+  std::vector<PairView> pairs(const ModelData<D>& m, PairSet which) const override {
     std::vector<PairView> out;
-    const PairList& L = want_bonds ? m.bonds : m.contacts;
+    const PairList& L = which == PairSet::Contacts ? m.contacts : m.bonds;
+    const bool broken_only = which == PairSet::BrokenBonds;
     const double* X[D];
     const double* V[D];
     for (int a = 0; a < D; ++a) {
       X[a] = m.x[a].data();
       V[a] = m.v[a].data();
     }
-    out.reserve(L.size());
+    if (!broken_only) out.reserve(L.size());
     for (std::size_t p = 0; p < m.n(); ++p)
       for (std::uint32_t k = L.off[p]; k < L.off[p + 1]; ++k) {
+        if (broken_only && (L.st[k] & pair_state::kKindMask) == pair_state::kIntact) continue;
         const std::uint32_t j = L.j[k];
         std::uint8_t st = L.st[k];
         double us[kNs];
