@@ -256,6 +256,16 @@ class Model final : public ModelBase, public ModelData<D> {
     }
   }
 
+  /// Set-up loops over fixed chunks of particles: fn(c) for c in [0, nc), the chunks split
+  /// evenly over the threads (one thread for small models, as for_range).
+  template <typename F>
+  void for_chunks(std::ptrdiff_t nc, F&& fn) const {
+    const int nt = small_model() ? 1 : static_cast<int>(std::min<std::ptrdiff_t>(par::threads(), nc));
+    par::parallel_team(nt, [&](int t, int team) {
+      for (std::ptrdiff_t c = nc * t / team; c < nc * (t + 1) / team; ++c) fn(c);
+    });
+  }
+
   // ---- storage and spatial order (model.cpp) ---------------------------------------------
   void reserve(std::size_t cap) override;
   std::size_t add_particle(std::array<double, 3> p, double r, int m, double mass) override;
@@ -297,6 +307,16 @@ class Model final : public ModelBase, public ModelData<D> {
                  const std::vector<double>& factor, const std::vector<double>& strength) override;
   bool bonded(std::size_t p, std::uint32_t q) const;
   void rebuild_contacts();
+  /// Gives `candidates` (pairs within ri + rj + skin, not bonded) their states, carrying those
+  /// of pairs already in the contact list, and makes them the contact list.
+  void take_contacts(PairList candidates);
+  /// The contact candidates bond_touching_pairs found in the same search as the bonds, for
+  /// initialise(); valid while the particle count and the skin are those it had.
+  PairList found_contacts;
+  std::size_t found_contacts_n = 0;
+  double found_contacts_skin = 0;
+  /// The skin initialise() gives the contact search.
+  double start_skin() const { return settings.skin > 0 ? settings.skin : 0.5 * rad.max(); }
   int effective_threads(int nt) const;
   void build_plan(int nt);
 
@@ -347,8 +367,7 @@ class Model final : public ModelBase, public ModelData<D> {
   void compute_critical_dt();
   double max_stiffness() const;
   double lanczos() const;
-  template <typename F>
-  void for_chunks(std::ptrdiff_t nc, F&& fn) const;
+  double layer_mode_quotient() const;
   template <typename Real>
   double lanczos_impl() const;
   double critical_dt() const override { return dt_crit; }

@@ -96,13 +96,19 @@ void Model<D>::initialise() {
   resolve_bcs();
   acc.assign(static_cast<std::size_t>((n() + kBlock - 1) / kBlock), BlockAcc{});
   const double rmax = rad.max();
-  skin = settings.skin > 0 ? settings.skin : 0.5 * rmax;
+  skin = start_skin();
   contacts_on = settings.contact_detection;
   ph.lap("laws and boundary conditions");
   if (contacts_on) {
-    rebuild_contacts();
+    if (found_contacts_n == n() && found_contacts_skin == skin && found_contacts.off.size() == n() + 1) {
+      take_contacts(std::move(found_contacts));  // found with the bonds
+    } else {
+      rebuild_contacts();
+    }
     ph.lap("contact list");
   }
+  found_contacts = PairList{};
+  found_contacts_n = 0;
   compute_critical_dt();
   ph.lap("critical time step");
   check_dt();

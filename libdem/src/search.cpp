@@ -89,22 +89,30 @@ void Model<D>::for_neighbours(const Grid& g, std::size_t p, Fn&& fn) const {
 template <int D>
 template <typename Accept>
 PairList Model<D>::build_pairs(const Grid& g, Accept&& accept) const {
-  const std::size_t N = n();
+  // One search: each chunk of particles lists its pairs apart, and the lists are joined in
+  // chunk order.
+  constexpr std::size_t kChunk = 1024;
+  const std::size_t N = n(), nc = (N + kChunk - 1) / kChunk;
   PairList L;
   L.off.assign(N + 1, 0);
-  for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
-    std::uint32_t c = 0;
-    for_neighbours(g, static_cast<std::size_t>(p), [&](std::uint32_t q) { c += accept(p, q) ? 1 : 0; });
-    L.off[p + 1] = c;
+  std::vector<std::vector<std::uint32_t>> part(nc);
+  for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
+    auto& out = part[static_cast<std::size_t>(c)];
+    for (std::size_t p = static_cast<std::size_t>(c) * kChunk; p < std::min(N, (c + 1) * kChunk); ++p) {
+      const std::size_t first = out.size();
+      for_neighbours(g, p, [&](std::uint32_t q) {
+        if (accept(p, q)) out.push_back(q);
+      });
+      std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
+      L.off[p + 1] = static_cast<std::uint32_t>(out.size() - first);
+    }
   });
   for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
   L.j.resize(L.off[N]);
-  for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
-    std::uint32_t k = L.off[p];
-    for_neighbours(g, static_cast<std::size_t>(p), [&](std::uint32_t q) {
-      if (accept(p, q)) L.j[k++] = q;
-    });
-    std::sort(L.j.begin() + L.off[p], L.j.begin() + L.off[p + 1]);
+  for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
+    auto& in = part[static_cast<std::size_t>(c)];
+    std::copy(in.begin(), in.end(), L.j.begin() + L.off[static_cast<std::size_t>(c) * kChunk]);
+    std::vector<std::uint32_t>().swap(in);
   });
   return L;
 }
@@ -120,13 +128,49 @@ void Model<D>::bond_touching_pairs(double tol) {
     ph.lap("spatial order");
   }
   const double rmax = rad.max();
-  const Grid g = build_grid(2 * rmax * (1 + tol));
+  // With contact detection, the same search also finds the contact candidates initialise()
+  // needs (pairs within ri + rj + skin that are not bonded).
+  const bool contacts_too = settings.contact_detection;
+  const double skin0 = start_skin();
+  const Grid g =
+      build_grid(contacts_too ? std::max(2 * rmax * (1 + tol), 2 * rmax + skin0) : 2 * rmax * (1 + tol));
   ph.lap("cell grid");
   const double f1 = (1 + tol) * (1 + tol);
-  PairList L = build_pairs(g, [&](std::size_t p, std::uint32_t q) {
+  auto touching = [&](std::size_t p, std::uint32_t q) {
     const double r = rad[p] + rad[q];
     return dist2(p, q) <= r * r * f1;
-  });
+  };
+  auto near = [&](std::size_t p, std::uint32_t q) {
+    const double r = rad[p] + rad[q] + skin0;
+    return dist2(p, q) < r * r;
+  };
+  PairList L = build_pairs(
+      g, [&](std::size_t p, std::uint32_t q) { return touching(p, q) || (contacts_too && near(p, q)); });
+  if (contacts_too) {  // split: bonds, and the others as contact candidates, in the same order
+    const std::size_t N = n();
+    PairList B, C;
+    B.off.assign(N + 1, 0);
+    C.off.assign(N + 1, 0);
+    for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
+      for (std::uint32_t k = L.off[p]; k < L.off[p + 1]; ++k) ++(touching(p, L.j[k]) ? B : C).off[p + 1];
+    });
+    for (std::size_t i = 0; i < N; ++i) B.off[i + 1] += B.off[i], C.off[i + 1] += C.off[i];
+    B.j.resize(B.off[N]);
+    C.j.resize(C.off[N]);
+    for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
+      std::uint32_t b = B.off[p], c = C.off[p];
+      for (std::uint32_t k = L.off[p]; k < L.off[p + 1]; ++k) {
+        if (touching(p, L.j[k]))
+          B.j[b++] = L.j[k];
+        else
+          C.j[c++] = L.j[k];
+      }
+    });
+    L = std::move(B);
+    found_contacts = std::move(C);
+    found_contacts_n = n();
+    found_contacts_skin = skin0;
+  }
   L.st.assign(L.size(), pair_state::kIntact);
   if (keeps_shear()) L.us.assign(L.size() * kNs, 0.0);
   bonds = std::move(L);
@@ -202,13 +246,17 @@ bool Model<D>::bonded(std::size_t p, std::uint32_t q) const {
 // carries each surviving pair's state and shear displacement by matching (i, j).
 template <int D>
 void Model<D>::rebuild_contacts() {
-  const std::size_t N = n();
   const double rmax = rad.max();
   const Grid g = build_grid(2 * rmax + skin);
-  PairList L = build_pairs(g, [&](std::size_t p, std::uint32_t q) {
+  take_contacts(build_pairs(g, [&](std::size_t p, std::uint32_t q) {
     const double r = rad[p] + rad[q] + skin;
     return dist2(p, q) < r * r && !bonded(p, q);
-  });
+  }));
+}
+
+template <int D>
+void Model<D>::take_contacts(PairList L) {
+  const std::size_t N = n();
   L.st.assign(L.size(), pair_state::kContact);
   if (keeps_shear()) L.us.assign(L.size() * kNs, 0.0);
   if (contacts.size() > 0) {
@@ -320,6 +368,7 @@ void Model<D>::build_plan(int nt) {
                                     const std::vector<double>&, const std::vector<double>&);              \
   template bool Model<D>::bonded(std::size_t, std::uint32_t) const;                                       \
   template void Model<D>::rebuild_contacts();                                                             \
+  template void Model<D>::take_contacts(PairList);                                                        \
   template int Model<D>::effective_threads(int) const;                                                    \
   template void Model<D>::build_plan(int);
 STRATA_DEM_INSTANTIATE(2)

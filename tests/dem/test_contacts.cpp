@@ -57,3 +57,45 @@ void gas(int dim) {
 
 TEST(Contacts, SearchNeverMisses2D) { gas(2); }
 TEST(Contacts, SearchNeverMisses3D) { gas(3); }
+
+namespace {
+// The contact candidates bond_touching_pairs finds in its own search (for initialise) are
+// the pairs a search of their own finds: within ri + rj + skin and not bonded.
+void candidates_with_the_bonds(int dim) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> ur(0.45e-3, 0.55e-3), jitter(-0.05e-3, 0.05e-3);
+  auto build = [&](Simulation& sim) {
+    rng.seed(11);
+    const int mat = sim.add_material(c1_material());
+    const int n1 = dim == 2 ? 40 : 12;
+    const double sp = 1.05e-3;  // some neighbours touch (bonds), others lie within the skin
+    for (int k = 0; k < (dim == 3 ? n1 : 1); ++k)
+      for (int j = 0; j < n1; ++j)
+        for (int i = 0; i < n1; ++i)
+          sim.add_particle({i * sp + jitter(rng), j * sp + jitter(rng), dim == 3 ? k * sp + jitter(rng) : 0},
+                           ur(rng), mat);
+  };
+  const Settings s{.dt = 1e-12, .contact_detection = true};
+  Simulation found(dim, s), searched(dim, s);
+  build(found);
+  build(searched);
+  found.bond_touching_pairs();  // bonds and contact candidates in one search
+  std::vector<std::uint32_t> bi, bj;
+  const auto ids = found.ids();
+  for (const auto& b : found.bonds()) bi.push_back(ids[b.i]), bj.push_back(ids[b.j]);
+  searched.set_bonds(bi, bj, {}, {});  // the same bonds; initialise searches the contacts itself
+  found.initialise();
+  searched.initialise();
+  const auto a = found.contacts(), b = searched.contacts();
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_GT(a.size(), 20u) << "the test needs near, unbonded pairs";
+  EXPECT_GT(bi.size(), 20u);
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].i, b[k].i) << k;
+    EXPECT_EQ(a[k].j, b[k].j) << k;
+  }
+}
+}  // namespace
+
+TEST(Contacts, CandidatesFoundWithTheBondsAreThoseOfTheirOwnSearch2D) { candidates_with_the_bonds(2); }
+TEST(Contacts, CandidatesFoundWithTheBondsAreThoseOfTheirOwnSearch3D) { candidates_with_the_bonds(3); }

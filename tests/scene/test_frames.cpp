@@ -308,3 +308,74 @@ TEST_F(IoTest, GroupSelectionFiltersBrokenBonds) {
   EXPECT_EQ(p.drawn(sel), -1);
 }
 #endif
+
+#if STRATA_WITH_VTK
+// A selected frame reads only the particles it writes; what it holds must be what filtering
+// the frame of every particle gives: the surface particles in a slice, in internal order, with
+// their fields, and the cracks in the slice between the same particles.
+TEST(SelectedFrame, HoldsWhatFilteringTheWholeFrameGives) {
+  dem::Material m;
+  m.density = 2650;
+  m.kn = 1e7;
+  m.ks = 4e6;
+  m.tensile_strength = 0.05;  // N: the pull below breaks some bonds
+  dem::Simulation sim(2, dem::Settings{.dt = 1e-8, .allow_unstable = true});
+  const int mat = sim.add_material(m);
+  const double d = 1e-3;
+  std::vector<std::uint32_t> right;
+  for (int j = 0; j < 12; ++j)
+    for (int i = 0; i < 16; ++i) {
+      const auto id = sim.add_particle({(i + 0.5 * (j % 2)) * d, j * d * std::sqrt(3.0) / 2, 0}, d / 2, mat);
+      if (i >= 8) right.push_back(std::uint32_t(id));
+    }
+  sim.add_to_group(right, "right");
+  sim.bond_touching_pairs();
+  sim.initialise();
+  sim.prescribe_velocity("right", {2.0, 0.3, 0}, dem::kXY);
+  sim.run(40);
+  ASSERT_GT(sim.broken_count(), 0u);
+
+  scene::FrameSelection sel;
+  sel.particles = scene::FrameSelection::Particles::Surface;
+  sel.slice_thickness = 6 * d;
+  sel.slice_point = {8 * d, 0, 0};
+  sel.slice_normal = {1, 0, 0};
+  sel.find_surface(sim);
+  const std::vector<std::string> fields{"id", "displacement", "velocity", "damage", "group"};
+  const scene::SelectedFrame f = scene::selected_frame(sim, fields, sel, false);
+  const io::PointCloud all = scene::particle_frame(sim, fields);
+  const auto ids = sim.ids();
+
+  // the particles: filter the whole frame by hand
+  std::vector<std::size_t> keep;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (sel.surface_by_id[ids[i]] && sel.in_groups_and_slice(true, &all.xyz[3 * i])) keep.push_back(i);
+  ASSERT_GT(keep.size(), 5u);
+  ASSERT_LT(keep.size(), all.size());
+  const io::PointCloud pc = f.particles();
+  ASSERT_EQ(pc.size(), keep.size());
+  for (std::size_t k = 0; k < keep.size(); ++k)
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(pc.xyz[3 * k + a], all.xyz[3 * keep[k] + a]);
+  ASSERT_EQ(pc.point_data.size(), all.point_data.size());
+  for (std::size_t q = 0; q < all.point_data.size(); ++q) {
+    const auto& whole = all.point_data[q];
+    const auto& part = pc.point_data[q];
+    EXPECT_EQ(part.name, whole.name);
+    const auto c = std::size_t(whole.components);
+    for (std::size_t k = 0; k < keep.size(); ++k)
+      for (std::size_t e = 0; e < c; ++e)
+        EXPECT_EQ(part.values[k * c + e], whole.values[keep[k] * c + e]) << part.name;
+  }
+
+  // the cracks: the same lines as bond_frame's over all particles, between the same ids
+  const io::LineSet whole = scene::bond_frame(sim, sel);
+  ASSERT_GT(whole.size(), 0u);
+  ASSERT_EQ(f.bonds.size(), whole.size());
+  const io::Array* fid = f.points.find("id");
+  ASSERT_NE(fid, nullptr);
+  for (std::size_t e = 0; e < whole.ends.size(); ++e)
+    EXPECT_EQ(fid->values[std::size_t(f.bonds.ends[e])], double(ids[std::size_t(whole.ends[e])]));
+  EXPECT_EQ(f.bonds.cell_data[0].values, whole.cell_data[0].values);  // states
+  EXPECT_LT(f.points.size(), all.size());                             // not every particle was read
+}
+#endif
