@@ -281,21 +281,25 @@ double Model<D>::layer_mode_quotient() const {
     lo[a] = *mn - d;
     len[a] = *mx - *mn + 2 * d;
   }
-  // the sign of the layer, and a sine envelope over the model's box that fades the mode out
-  // towards its surface, where particles miss neighbours
-  auto sign = [&](std::size_t i) {
-    double w = std::llround((x[D - 1][i] - lo[D - 1] - d) / h) % 2 == 0 ? 1.0 : -1.0;
-    for (int a = 0; a < D; ++a) w *= std::sin(M_PI * (x[a][i] - lo[a]) / len[a]);
-    return w;
-  };
+  // u_i: the sign of the layer, times a sine envelope over the model's box that fades the
+  // mode out towards its surface, where particles miss neighbours (in single precision: any
+  // vector gives a lower bound; the sums are in double)
   const std::size_t nc = (N + kChunkP - 1) / kChunkP;
+  std::vector<float> u(N);
+  for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
+    for (std::size_t i = std::size_t(c) * kChunkP; i < std::min(N, std::size_t(c + 1) * kChunkP); ++i) {
+      double w = std::llround((x[D - 1][i] - lo[D - 1] - d) / h) % 2 == 0 ? 1.0 : -1.0;
+      for (int a = 0; a < D; ++a) w *= std::sin(M_PI * (x[a][i] - lo[a]) / len[a]);
+      u[i] = static_cast<float>(w);
+    }
+  });
   std::vector<double> energy(nc, 0.0), mass(nc, 0.0);
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     const auto cu = static_cast<std::size_t>(c);
     for (std::size_t p = cu * kChunkP; p < std::min(N, (cu + 1) * kChunkP); ++p) {
-      mass[cu] += sign(p) * sign(p) / im[p];
+      mass[cu] += double(u[p]) * u[p] / im[p];
       stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
-        const double du = sign(pp) - sign(j);  // along the last axis
+        const double du = double(u[pp]) - u[j];  // along the last axis
         if (du == 0) return;
         double nv[D];
         unit_normal(pp, j, nv);
