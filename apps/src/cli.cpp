@@ -99,6 +99,9 @@ int main(int argc, char** argv) {
                   "Continue from a checkpoint (OUTDIR/checkpoint.h5) of this scene up to its solver.steps")
       ->check(needs_part("STRATA_WITH_HDF5", "continuing from an HDF5 checkpoint"))
       ->check(CLI::ExistingFile);
+  run->add_flag("--no-checkpoint", opt.no_checkpoint,
+                "Write no checkpoint at the end of a completed run (a model of 1e8 spheres writes 14 GB); "
+                "output.checkpoint_every and an interrupted run still write theirs");
   run->footer(
       "Example:\n  strata run examples/01_uniaxial_compression/scene.toml -o out/c1 --threads 2 \\\n"
       "      --set solver.steps=200000 --set output.frames=10\n"

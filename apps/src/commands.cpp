@@ -248,7 +248,7 @@ int run_scene(const SceneOptions& opt) {
                  "--restart: {} is a calibration ([calibrate]); it has no checkpoints", sc.file.string());
     return calibrate_cmd(sc, opt.output);
   }
-  scene::Run run(sc, {opt.output, opt.force, opt.restart});
+  scene::Run run(sc, {opt.output, opt.force, opt.restart, !opt.no_checkpoint});
   print_model(run.model_summary());
   TerminalObserver observer;
   const StopSignals stop;

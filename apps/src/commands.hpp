@@ -15,6 +15,7 @@ struct SceneOptions {
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool force = false;                  // run even when dt > dt_crit
   std::filesystem::path restart;       // `strata run --restart`: checkpoint to continue from
+  bool no_checkpoint = false;          // `strata run --no-checkpoint`: none at the end of a completed run
 };
 
 /// `strata run`: the exit status (0; 128 + signal after SIGINT or SIGTERM, with a checkpoint

@@ -173,9 +173,10 @@ double sites_in(double measure, double d, int dim) {
   return measure / per_site;
 }
 
-void check_sites_fit(double sites, int dim, const std::string& what) {
+void check_sites_fit(double sites, int dim, const std::string& what, bool shear) {
   const double ids = double(std::numeric_limits<std::uint32_t>::max());
-  const double bytes = sites * (dim == 2 ? 400.0 : 800.0), memory = double(sys::physical_memory_bytes());
+  const double per_site = dim == 2 ? (shear ? 140.0 : 110.0) : (shear ? 360.0 : 210.0);
+  const double bytes = sites * per_site, memory = double(sys::physical_memory_bytes());
   if (!(sites > ids) && !(memory > 0 && bytes > memory)) return;
   fail(ErrorKind::Input,
        "{} would hold about {:.3g} particles: about {:.3g} GB to build, more than {}; allowed: larger "

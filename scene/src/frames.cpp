@@ -184,10 +184,15 @@ std::vector<std::uint32_t> FrameSelection::particle_rows(const dem::Simulation& 
                                                          const std::vector<std::uint8_t>& pass) const {
   std::vector<std::uint32_t> rows;
   if (particles == Particles::None) return rows;
-  const bool surface = particles == Particles::Surface;
-  const auto ids = surface ? sim.ids() : std::vector<std::uint32_t>{};
-  for (std::size_t i = 0; i < sim.particle_count(); ++i)
-    if ((pass.empty() || pass[i]) && (!surface || surface_by_id[ids[i]])) rows.push_back(std::uint32_t(i));
+  const bool surface = particles == Particles::Surface, both = particles == Particles::SurfaceAndSlice;
+  const auto ids = surface || both ? sim.ids() : std::vector<std::uint32_t>{};
+  const auto in_group = both && !groups.empty() ? sim.in_groups(groups) : std::vector<std::uint8_t>{};
+  for (std::size_t i = 0; i < sim.particle_count(); ++i) {
+    const bool passes = pass.empty() || pass[i];
+    const bool keep = both ? passes || (surface_by_id[ids[i]] && (in_group.empty() || in_group[i]))
+                           : passes && (!surface || surface_by_id[ids[i]]);
+    if (keep) rows.push_back(std::uint32_t(i));
+  }
   return rows;
 }
 

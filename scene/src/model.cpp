@@ -71,14 +71,15 @@ struct Filled {
 /// Refuses, at the region's diameter, a region whose particles cannot fit on this machine
 /// (preprocess::check_sites_fit); `total` adds up the regions so far. Large fills say so
 /// before they start.
-void check_fits(const RegionTable& r, int dim, double measure, double& total) {
+void check_fits(const RegionTable& r, int dim, double measure, double& total, bool shear) {
   const double n = preprocess::sites_in(measure, r.diameter, dim);
   total += n;
   r.diameter.blame([&] {
     preprocess::check_sites_fit(
         total, dim,
         fmt::format("region '{}' with particles of diameter {} m (and the regions before it)", r.name.value,
-                    r.diameter.value));
+                    r.diameter.value),
+        shear);
   });
   if (n > 2e6) log::info("region '{}': filling about {:.3g} particles", r.name.value, n);
 }
@@ -98,6 +99,7 @@ void with_geometry(Filled& f, const RegionTable& r, const preprocess::GeometryOp
 
 /// Fills a shape = "file" region.
 Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind kind, double d, double& total,
+                        bool shear,
                         std::map<std::string, std::shared_ptr<const preprocess::Geometry>>& cache) {
   // mesh_size: the largest element of the geometry mesh the inside tests use (0: the file's
   // own sizes); curved CAD surfaces need it near the particle size to be filled to their volume.
@@ -119,7 +121,7 @@ Filled fill_file_region(const RegionTable& r, int dim, preprocess::LatticeKind k
     const preprocess::Bounds b = geo->mesh.bounds();
     fo.origin = preprocess::Vec3{b.lo[0] + d / 2, b.lo[1] + d / 2, dim == 3 ? b.lo[2] + d / 2 : 0.0};
   }
-  check_fits(r, dim, f.region->measure(), total);
+  check_fits(r, dim, f.region->measure(), total, shear);
   f.fill = r.diameter.blame([&] { return preprocess::fill_region(*f.region, fo); });
   return f;
 }
@@ -316,6 +318,9 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
   std::map<std::string, std::shared_ptr<const preprocess::Geometry>> geometries;
   std::uint32_t next_id = 0;
   double estimated = 0;  // particles of the regions so far, estimated before each fill
+  // without shear springs in any material the model keeps no shear history (less memory)
+  bool shear = false;
+  for (const auto& m : sc.materials) shear |= m.ks > 0;
   for (const auto& r : sc.regions) {
     if (r.kind == RegionKind::Fem) {
       if (!allow_fem)
@@ -344,10 +349,10 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
       f = coupled_region(r, *coupled, dim, geometries);
       info.measure = f.region->mesh.measure();
     } else if (r.shape == RegionShape::File) {
-      f = fill_file_region(r, dim, kind, info.diameter, estimated, geometries);
+      f = fill_file_region(r, dim, kind, info.diameter, estimated, shear, geometries);
       info.measure = f.fill->measure;
     } else {
-      check_fits(r, dim, shape.measure(), estimated);
+      check_fits(r, dim, shape.measure(), estimated, shear);
       f.shape_lattice =
           r.diameter.blame([&] { return preprocess::fill_shape(shape, kind, info.diameter, r.orientation); });
       info.measure = shape.measure();

@@ -96,6 +96,7 @@ json model_json(const BuiltModel& m, const Scene& sc) {
             {"fem_nodes", m.has_fem() ? m.fem().mesh().nodes() : 0},
             {"fem_elements", 0},
             {"memory_bytes", p ? m.sim().memory_bytes() : 0},
+            {"setup_seconds", m.build_seconds},
             {"dt_s", m.dt},
             {"dt_automatic", m.dt_automatic},
             {"dt_crit_s", m.dt_crit},

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <strata/config.hpp>
 #include <strata/core/log.hpp>
+#include <strata/core/memory.hpp>
 #include <strata/core/state_io.hpp>
 #include <strata/dem/hough.hpp>
 #include <strata/io/csv.hpp>
@@ -305,9 +306,10 @@ class RunOutput {
   static FrameSelection selection(BuiltModel& m, const OutputTable& out) {
     FrameSelection selection_;
     const std::string& p = out.particles;
-    selection_.particles = p == "surface" ? FrameSelection::Particles::Surface
-                           : p == "none"  ? FrameSelection::Particles::None
-                                          : FrameSelection::Particles::All;
+    selection_.particles = p == "surface"             ? FrameSelection::Particles::Surface
+                           : p == "surface_and_slice" ? FrameSelection::Particles::SurfaceAndSlice
+                           : p == "none"              ? FrameSelection::Particles::None
+                                                      : FrameSelection::Particles::All;
     const std::string& b = out.bonds;
     selection_.bonds = b == "all"    ? FrameSelection::Bonds::All
                        : b == "none" ? FrameSelection::Bonds::None
@@ -329,7 +331,13 @@ class RunOutput {
     if (selection_.slice_thickness > 0 && len == 0)
       out.slice_normal.fail("the slice normal must not be zero");
     for (double& c : selection_.slice_normal) c /= len > 0 ? std::sqrt(len) : 1.0;
-    if (selection_.particles == FrameSelection::Particles::Surface && m.has_particles())
+    if (selection_.particles == FrameSelection::Particles::SurfaceAndSlice && selection_.slice_thickness == 0)
+      out.particles.fail(
+          "particles = \"surface_and_slice\" writes the surface and a slice, and output.slice_thickness is 0 "
+          "(no slice); allowed: slice_thickness > 0 with slice_point and slice_normal, or particles = "
+          "\"surface\"");
+    if (selection_.particles != FrameSelection::Particles::All &&
+        selection_.particles != FrameSelection::Particles::None && m.has_particles())
       selection_.find_surface(m.sim());
     return selection_;
   }
@@ -349,6 +357,7 @@ class RunOutput {
     summary["status"] = status;
     summary["steps_done"] = m.step_count();
     summary["wall_seconds"] = run_seconds;
+    summary["peak_resident_bytes"] = sys::peak_rss_bytes();  // of the process so far, set-up included
     // this process's steps (a restart continues from first_step_)
     const double n = particles_on_ ? double(m.sim().particle_count()) : 0.0;
     summary["particle_steps_per_s"] =

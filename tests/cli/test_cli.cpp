@@ -488,6 +488,28 @@ TEST(Cli, SelectiveOutputWritesOnlyWhatIsAsked) {
           "--set 'output.slice_normal=[0.0, 1.0]'",
           "slice");
   const FrameCounts forces = run("--set 'output.fields=[\"force\"]' --set output.bonds=all", "forces");
+  // a 1 mm slice across the rows through x = 4.5 mm: the surface and, besides, the slice's
+  // inner disks, one or two per inner row
+  const FrameCounts both =
+      run("--set output.particles=surface_and_slice --set output.slice_thickness=0.001 "
+          "--set 'output.slice_point=[0.0045, 0.0]' --set 'output.slice_normal=[1.0, 0.0]'",
+          "both");
+  const FrameCounts cut =
+      run("--set output.slice_thickness=0.001 --set 'output.slice_point=[0.0045, 0.0]' "
+          "--set 'output.slice_normal=[1.0, 0.0]'",
+          "cut");
+  const FrameCounts cut_surface =
+      run("--set output.particles=surface --set output.slice_thickness=0.001 "
+          "--set 'output.slice_point=[0.0045, 0.0]' --set 'output.slice_normal=[1.0, 0.0]'",
+          "cut_surface");
+  EXPECT_EQ(both.points, surface.points + cut.points - cut_surface.points);
+  EXPECT_GT(both.points, surface.points);
+  // without a slice, surface_and_slice is refused at its key, before anything is written
+  const auto refused = strata("run " + f.string() + " -o " + (d / "refused").string() +
+                              " --set output.particles=surface_and_slice");
+  EXPECT_EQ(refused.status, 2) << refused.output;
+  EXPECT_NE(refused.output.find("slice_thickness is 0"), std::string::npos) << refused.output;
+  EXPECT_FALSE(fs::exists(d / "refused" / "summary.json"));
   EXPECT_EQ(all.points, 105u);
   EXPECT_EQ(surface.points, 38u);
   EXPECT_EQ(top.points, 10u);

@@ -377,5 +377,15 @@ TEST(SelectedFrame, HoldsWhatFilteringTheWholeFrameGives) {
     EXPECT_EQ(fid->values[std::size_t(f.bonds.ends[e])], double(ids[std::size_t(whole.ends[e])]));
   EXPECT_EQ(f.bonds.cell_data[0].values, whole.cell_data[0].values);  // states
   EXPECT_LT(f.points.size(), all.size());                             // not every particle was read
+
+  // surface_and_slice: the surface and, besides, the whole slice
+  sel.particles = scene::FrameSelection::Particles::SurfaceAndSlice;
+  std::vector<double> want;  // ids, in internal order
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (sel.surface_by_id[ids[i]] || sel.in_groups_and_slice(true, &all.xyz[3 * i]))
+      want.push_back(double(ids[i]));
+  const io::PointCloud both = scene::selected_frame(sim, fields, sel, false).particles();
+  EXPECT_GT(want.size(), keep.size());
+  EXPECT_EQ(both.find("id")->values, want);
 }
 #endif

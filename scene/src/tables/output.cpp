@@ -98,11 +98,14 @@ TableSpec output_spec() {
                    "zero); particles, cracks and FEM cells on the normal's side are left out, so the "
                    "inside shows. Not set: nothing is clipped."),
           K("particles", Choice)
-              .choices({"all", "surface", "none"})
+              .choices({"all", "surface", "surface_and_slice", "none"})
               .def(R"("all")")
               .doc("Which particles the VTK frames hold: all; surface (the particles that had fewer "
                    "bonds at the start than one inside the lattice: the skin of every region and of its "
-                   "holes); none. Large models can write only what a workstation can open."),
+                   "holes); surface_and_slice (the surface and, besides, every particle of the slice, "
+                   "which slice_thickness must then give: the outside of a large model and a cut "
+                   "through it; bonds and contacts those of the slice); none. Large models can write "
+                   "only what a workstation can open."),
           K("groups", StringList)
               .def("[]")
               .doc("Only particles of these [[group]]s or [[region]]s in the VTK frames, and only the bonds "
@@ -120,7 +123,7 @@ TableSpec output_spec() {
               .def("0.0")
               .doc("Only particles whose centres lie within half this distance of the slice plane "
                    "(slice_point, slice_normal) in the VTK frames, and the bonds and contacts between two of "
-                   "them; 0: no slice."),
+                   "them (with particles = \"surface_and_slice\": these and the surface); 0: no slice."),
           K("bonds", Choice)
               .choices({"broken", "all", "none"})
               .def(R"("broken")")

@@ -55,10 +55,13 @@ double sites_in(double measure, double d, int dim);
 
 /// Throws Error(Input) "<what> would hold about N particles ...: about X GB to build, more than
 /// ..." when `sites` particles cannot be built on this machine: more than 32-bit particle ids
-/// count, or more than its memory at about 400 bytes per disk (800 per sphere: sites,
-/// particles and bonds while a model is built). Checked before a lattice is filled, so that a
-/// tiny diameter is refused at once instead of filling for hours or running out of memory.
-void check_sites_fit(double sites, int dim, const std::string& what);
+/// count, or more than its memory at the peak a bonded-particle model reaches while it is
+/// built and run (sites, particles, bonds and the time-step estimate; measured at 10^6–10^7
+/// particles, with a few per cent of room): 140 bytes per disk and 360 per sphere with shear
+/// springs, 110 and 210 with normal springs only (`shear` false: no shear history is kept).
+/// Checked before a lattice is filled, so that a tiny diameter is refused at once instead of
+/// filling for hours or running out of memory.
+void check_sites_fit(double sites, int dim, const std::string& what, bool shear = true);
 
 // ---- selections (indices into the lattice, ascending) -----------------------------------
 /// Sites of the highest / lowest row (2D); in 3D the highest / lowest layer.

@@ -17,7 +17,9 @@ namespace strata::scene {
 /// Which particles, bonds and contacts the VTK frames hold ([output] particles, groups,
 /// slice_*, bonds, contacts).
 struct FrameSelection {
-  enum class Particles { All, Surface, None } particles = Particles::All;
+  /// SurfaceAndSlice: the surface (within `groups`) and every particle that passes the group
+  /// and slice selection.
+  enum class Particles { All, Surface, SurfaceAndSlice, None } particles = Particles::All;
   enum class Bonds { Broken, All, None } bonds = Bonds::Broken;
   /// Never-bonded contacts that touch now, as lines with state BondState::Contact; only
   /// those whose two particles pass the group and slice selection.
@@ -40,7 +42,8 @@ struct FrameSelection {
   /// when every particle does.
   std::vector<std::uint8_t> passes(const dem::Simulation& sim) const;
   /// Internal rows, ascending, of the particles the particle frames hold: those that pass
-  /// (`pass` from passes()) and, for Particles::Surface, lie on the surface (find_surface).
+  /// (`pass` from passes()) and, for Particles::Surface, lie on the surface (find_surface);
+  /// for Particles::SurfaceAndSlice, those that pass and those on the surface in `groups`.
   std::vector<std::uint32_t> particle_rows(const dem::Simulation& sim,
                                            const std::vector<std::uint8_t>& pass) const;
 };
