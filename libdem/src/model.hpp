@@ -311,9 +311,9 @@ class Model final : public ModelBase, public ModelData<D> {
   /// of pairs already in the contact list, and makes them the contact list.
   void take_contacts(PairList candidates);
   /// The contact candidates bond_touching_pairs found in the same search as the bonds, for
-  /// initialise(); valid while the particle count and the skin are those it had.
+  /// initialise(); valid while the particle count (its offsets' size less one) and the skin
+  /// are those it had.
   PairList found_contacts;
-  std::size_t found_contacts_n = 0;
   double found_contacts_skin = 0;
   /// The skin initialise() gives the contact search.
   double start_skin() const { return settings.skin > 0 ? settings.skin : 0.5 * rad.max(); }

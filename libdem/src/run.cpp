@@ -100,7 +100,7 @@ void Model<D>::initialise() {
   contacts_on = settings.contact_detection;
   ph.lap("laws and boundary conditions");
   if (contacts_on) {
-    if (found_contacts_n == n() && found_contacts_skin == skin && found_contacts.off.size() == n() + 1) {
+    if (found_contacts.off.size() == n() + 1 && found_contacts_skin == skin) {
       take_contacts(std::move(found_contacts));  // found with the bonds
     } else {
       rebuild_contacts();
@@ -108,7 +108,6 @@ void Model<D>::initialise() {
     ph.lap("contact list");
   }
   found_contacts = PairList{};
-  found_contacts_n = 0;
   compute_critical_dt();
   ph.lap("critical time step");
   check_dt();

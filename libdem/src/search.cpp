@@ -168,7 +168,6 @@ void Model<D>::bond_touching_pairs(double tol) {
     });
     L = std::move(B);
     found_contacts = std::move(C);
-    found_contacts_n = n();
     found_contacts_skin = skin0;
   }
   L.st.assign(L.size(), pair_state::kIntact);

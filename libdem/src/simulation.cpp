@@ -73,12 +73,13 @@ std::uint32_t existing_group(const detail::ModelBase& m, const std::string& name
 std::uint32_t group_of(Simulation& s, const std::string& name) {
   return static_cast<std::uint32_t>(s.group_index(name));
 }
-/// A value given per group set, per particle (internal order).
+/// A value given per group set, per particle (internal order; at `rows` when listed).
 template <typename T>
-std::vector<T> per_particle(const detail::ModelBase& m, const std::vector<T>& of_set) {
+std::vector<T> per_particle(const detail::ModelBase& m, const std::vector<T>& of_set,
+                            detail::Rows rows = {}) {
   const auto& sets = m.particle_sets();
-  std::vector<T> out(sets.size());
-  for (std::size_t i = 0; i < sets.size(); ++i) out[i] = of_set[sets[i]];
+  std::vector<T> out(rows.count(sets.size()));
+  for (std::size_t k = 0; k < out.size(); ++k) out[k] = of_set[sets[rows[k]]];
   return out;
 }
 
@@ -108,12 +109,7 @@ std::vector<std::uint8_t> Simulation::in_groups(const std::vector<std::string>& 
 }
 std::vector<std::int32_t> Simulation::last_group() const { return per_particle(*m_, last_group_of_set(*m_)); }
 std::vector<std::int32_t> Simulation::last_group(std::span<const std::uint32_t> rows) const {
-  const auto of_set = last_group_of_set(*m_);
-  const auto& sets = m_->particle_sets();
-  const detail::Rows r = listed(*m_, rows);
-  std::vector<std::int32_t> out(rows.size());
-  for (std::size_t k = 0; k < out.size(); ++k) out[k] = of_set[sets[r[k]]];
-  return out;
+  return per_particle(*m_, last_group_of_set(*m_), listed(*m_, rows));
 }
 
 const std::vector<std::string>& Simulation::group_names() const { return m_->group_names; }

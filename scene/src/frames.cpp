@@ -206,17 +206,9 @@ io::PointCloud SelectedFrame::particles() const {
   out.dim = points.dim;
   out.time = points.time;
   out.step = points.step;
-  out.xyz.reserve(kept.size() * 3);
-  for (std::size_t i : kept) out.xyz.insert(out.xyz.end(), &points.xyz[3 * i], &points.xyz[3 * i] + 3);
-  for (const auto& a : points.point_data) {
-    io::Array b{a.name, a.components, {}, a.type};
-    const auto c = std::size_t(a.components);
-    b.values.reserve(kept.size() * c);
-    for (std::size_t i : kept)
-      b.values.insert(b.values.end(), a.values.begin() + std::ptrdiff_t(i * c),
-                      a.values.begin() + std::ptrdiff_t((i + 1) * c));
-    out.point_data.push_back(std::move(b));
-  }
+  out.xyz = at_rows(points.xyz, 3, kept);
+  for (const auto& a : points.point_data)
+    out.point_data.push_back({a.name, a.components, at_rows(a.values, a.components, kept), a.type});
   return out;
 }
 
@@ -242,7 +234,7 @@ SelectedFrame selected_frame(const dem::Simulation& sim, const std::vector<std::
   };
   for (auto& e : f.bonds.ends) e = index_of(std::uint32_t(e));
   f.kept.reserve(rows.size());
-  for (const std::uint32_t r : rows) f.kept.push_back(index_of(r));
+  for (const std::uint32_t r : rows) f.kept.push_back(std::uint32_t(index_of(r)));
   f.points = particle_frame(sim, fields, f.rows);
   return f;
 }

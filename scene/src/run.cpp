@@ -109,6 +109,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
   }
 
   const auto t0 = std::chrono::steady_clock::now();
+  log::Phases ph("run");     // strata -v: the time and memory of the steps and of the checkpoint
   std::int64_t settled = 0;  // settling steps of this execution (in the step rate)
   auto finish_result = [&] {
     result.first_step = first * q;
@@ -210,8 +211,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
          (dir / "probes.csv").string());
   }
   const double run_seconds = seconds_since(t0);
-  log::Phases ph("run");
-  ph.lap("stepped, frames written");
+  ph.lap("steps, probes and frames");
   // A checkpoint at the end lets a later `--restart` (with more steps) continue the run.
   if (STRATA_WITH_HDF5 && opt.final_checkpoint) {
     result.checkpoint = write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());

@@ -70,7 +70,7 @@ io::LineSet bond_frame(const dem::Simulation& sim, const FrameSelection& sel);
 struct SelectedFrame {
   std::vector<std::uint32_t> rows;  ///< internal rows of `points`, ascending
   io::PointCloud points;            ///< the written particles and the ends of the written bonds
-  std::vector<std::size_t> kept;    ///< indices into `points` of the written particles
+  std::vector<std::uint32_t> kept;  ///< indices into `points` of the written particles
   io::LineSet bonds;                ///< bond_frame's lines, indexing `points`
   /// The written particles (all of `points` when they are all written).
   io::PointCloud particles() const;
