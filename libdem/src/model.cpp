@@ -173,6 +173,7 @@ void Model<D>::sort_particles() {
   std::vector<std::array<std::uint32_t, 2>> pairs;
   std::vector<std::uint8_t> pst;
   std::vector<double> pus, pr0, pkf, psf;
+  if (!bond_us.empty()) bonds.us = bond_us.expanded();  // carried as doubles, taken back below
   if (bonds.size() > 0) {
     inv.assign(N, 0);
     for (std::size_t i = 0; i < N; ++i) inv[perm[i]] = static_cast<std::uint32_t>(i);
@@ -230,6 +231,10 @@ void Model<D>::sort_particles() {
     }
     for (std::size_t i = 0; i < N; ++i) nb.off[i + 1] += nb.off[i];
     bonds = std::move(nb);
+    if (!bonds.us.empty()) {
+      bond_us.take(bonds.us, bonds.st, bond_us.unit);
+      bonds.us = {};
+    }
   } else {
     bonds.off.assign(N + 1, 0);
   }
@@ -314,7 +319,7 @@ std::size_t Model<D>::memory_bytes() const {
   for (int a = 0; a < D; ++a) b += (x[a].capacity() + v[a].capacity() + x0[a].capacity()) * sizeof(double);
   b += im.bytes() + rad.bytes();
   b += (id.capacity() + grp.capacity()) * 4 + mat.capacity() + flags.capacity();
-  b += bonds.bytes() + contacts.bytes();
+  b += bonds.bytes() + contacts.bytes() + bond_us.bytes();
   b += bcp.capacity() * sizeof(BcParticle) + acc.capacity() * sizeof(BlockAcc);
   b += (cross_b.capacity() + cross_c.capacity()) * sizeof(double);
   b += bond_owner.capacity() + pend_slot.capacity() * 4;
@@ -331,11 +336,12 @@ std::size_t Model<D>::streamed_bytes_per_step() const {
   // (the pending forces stay in cache: a ring of a few blocks and the front's slots)
   const std::size_t particle = 2 * D * 2 * sizeof(double) + (im.uniform() ? 0 : sizeof(double)) +
                                (rad.uniform() ? 0 : sizeof(double)) + 1 + 2 * 4;
-  // per pair: partner index read, state byte and shear history read and written
-  const std::size_t pair = 4 + 2 + (bonds.us.empty() ? 0 : 2 * kNs * sizeof(double));
-  std::size_t b = n() * particle + contacts.size() * pair;
-  b += bonds.size() * (pair + 1);                                 // and the owner byte of the bond pass
-  if (!bonds.r0.empty()) b += bonds.size() * 3 * sizeof(double);  // rest length, factors
+  // per pair: partner index read, state byte and shear history read and written (a bond's
+  // in 32 bits, a contact's in 64)
+  const std::size_t pair = 4 + 2;
+  std::size_t b = n() * particle + contacts.size() * (pair + (contacts.us.empty() ? 0 : 2 * kNs * 8));
+  b += bonds.size() * (pair + (bond_us.empty() ? 0 : 2 * kNs * 4) + 1);  // and the bond pass's owner byte
+  if (!bonds.r0.empty()) b += bonds.size() * 3 * sizeof(double);         // rest length, factors
   return b;
 }
 

@@ -80,6 +80,7 @@ struct StateRefs {
   double* energy_tiny = nullptr;
   double* skin = nullptr;
   double* disp_bound = nullptr;
+  std::int64_t* settled = nullptr;
   bool* initialised = nullptr;
   bool* bcs_dirty = nullptr;
   bool* energy_valid = nullptr;
@@ -165,6 +166,9 @@ class ModelBase {
   virtual std::vector<float> damage(Rows rows) const = 0;
   virtual std::vector<PairView> pairs(PairSet which) const = 0;
   virtual std::size_t memory_bytes() const = 0;
+  /// The bonds' shear histories as doubles, NS per bond (checkpoints; empty when the model
+  /// keeps none).
+  virtual std::vector<double> bond_shear() const = 0;
   virtual std::size_t streamed_bytes_per_step() const = 0;
   virtual std::uint64_t state_hash() const = 0;
   /// Checkpoints (state.cpp): the run state by reference, and the rebuild of derived data
@@ -189,6 +193,7 @@ class Model final : public ModelBase, public ModelData<D> {
   using Data::acc;
   using Data::bcp;
   using Data::bond_owner;
+  using Data::bond_us;
   using Data::bonds;
   using Data::contacts;
   using Data::cross_b;
@@ -227,6 +232,7 @@ class Model final : public ModelBase, public ModelData<D> {
 
   // ---- run state -------------------------------------------------------------------------
   std::int64_t step_ = 0, last_good = 0;
+  std::int64_t settled = 0;  // steps of settling stages before step 0 (they seed BondShear's rounding)
   double time_ = 0;
   bool energy_valid = false;  // acc[].ke/eb are from the last step
   double energy_budget0 = 0, energy_tiny = 0;
@@ -288,6 +294,7 @@ class Model final : public ModelBase, public ModelData<D> {
   std::vector<float> damage(Rows rows) const override;
   std::size_t memory_bytes() const override;
   std::size_t streamed_bytes_per_step() const override;
+  std::vector<double> bond_shear() const override { return bond_us.expanded(); }
 
   // ---- neighbour search, bonds, contacts, thread plan (search.cpp) -----------------------
   /// Cell grid over the particles: cell side h >= the largest search distance.
@@ -335,6 +342,8 @@ class Model final : public ModelBase, public ModelData<D> {
   bool keeps_shear();
   /// Allocates (zero) or frees the pair lists' shear histories as keeps_shear() says.
   void fit_shear_history();
+  /// The step of the bonds' 32-bit shear histories (BondShear) for the current pair laws.
+  double shear_unit() const;
   void initialise() override;
   void check_dt() override;
   void walls_changed() override {

@@ -66,16 +66,31 @@ bool Model<D>::keeps_shear() {
 }
 
 template <int D>
+double Model<D>::shear_unit() const {
+  double reach = engine->shear_reach();
+  // no law bounds an intact bond's shear (unbreakable bonds): a hundredth of the largest
+  // diameter, a shear strain of 1 %; bonds sheared further are kept wide
+  if (!(reach > 0)) reach = 0.02 * rad.max();
+  if (!(reach > 0)) reach = 1;
+  return BondShear<kNs>::unit_for(reach);
+}
+
+template <int D>
 void Model<D>::fit_shear_history() {
   const bool keep = keeps_shear();
-  for (PairList* L : {&bonds, &contacts}) {
-    if (!keep) {
-      L->us.clear();
-      L->us.shrink_to_fit();
-    } else if (L->us.size() != L->size() * kNs) {
-      L->us.assign(L->size() * kNs, 0.0);
-    }
+  if (!keep) {
+    contacts.us.clear();
+    contacts.us.shrink_to_fit();
+    bond_us.clear();
+  } else {
+    if (contacts.us.size() != contacts.size() * kNs) contacts.us.assign(contacts.size() * kNs, 0.0);
+    const double unit = shear_unit();
+    if (bond_us.q.size() != bonds.size() * kNs)
+      bond_us.reset(bonds.size(), unit);
+    else if (bond_us.unit != unit)  // the laws changed: the same histories in the new steps
+      bond_us.take(bond_us.expanded(), bonds.st, unit);
   }
+  bonds.us = {};
 }
 
 template <int D>
@@ -145,6 +160,7 @@ StepCtx Model<D>::step_context() const {
   c.t = 0;
   for (int a = 0; a < 3; ++a) c.g[a] = settings.gravity[a];
   c.step = 0;
+  c.salt = 0;
   c.hist.resize(histories.size());
   c.damping = settings.damping;
   c.viscous_c = settings.viscous_c;
@@ -171,6 +187,7 @@ void Model<D>::run(std::int64_t steps, bool energies_at_end) {
   const int check = settings.energy_check_every;
   for (std::int64_t s = 0; s < steps; ++s) {
     c.step = step_;
+    c.salt = BondShear<kNs>::salt_of(settled + step_);
     c.t = time_;
     for (std::size_t h = 0; h < histories.size(); ++h) c.hist[h] = histories[h].at(time_);
     const bool check_now = check > 0 && (step_ + 1) % check == 0;
@@ -248,6 +265,7 @@ void Model<D>::settle(std::int64_t steps) {
   set_load_directions();  // radial loads point away from their centre as seen from x0
   for (BlockAcc& A : acc) A.work = A.work_ex = A.dissipated = 0;
   for (BreakEvent& e : events) e.step -= step_;
+  settled += step_;
   step_ = 0;
   time_ = 0;
   last_good = 0;
@@ -343,6 +361,7 @@ void Model<D>::merge_events() {
   template void Model<D>::refresh_laws();          \
   template bool Model<D>::keeps_shear();           \
   template void Model<D>::fit_shear_history();     \
+  template double Model<D>::shear_unit() const;    \
   template void Model<D>::initialise();            \
   template void Model<D>::check_dt();              \
   template StepCtx Model<D>::step_context() const; \

@@ -171,8 +171,8 @@ void Model<D>::bond_touching_pairs(double tol) {
     found_contacts_skin = skin0;
   }
   L.st.assign(L.size(), pair_state::kIntact);
-  if (keeps_shear()) L.us.assign(L.size() * kNs, 0.0);
   bonds = std::move(L);
+  bond_us.clear();  // zero histories: initialise() sizes them
   ph.lap("touching pairs");
 }
 
@@ -230,8 +230,8 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
   }
   for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
   L.st.assign(L.size(), pair_state::kIntact);
-  if (keeps_shear()) L.us.assign(L.size() * kNs, 0.0);
   bonds = std::move(L);
+  bond_us.clear();  // zero histories: initialise() sizes them
 }
 
 template <int D>
@@ -310,6 +310,7 @@ void Model<D>::build_plan(int nt) {
   plan.base_b.assign(nt + 1, 0);
   plan.base_c.assign(nt + 1, 0);
   evbuf.resize(nt);
+  bond_us.fresh.resize(static_cast<std::size_t>(nt));
   scratch.resize(nt);
   if (nt > 1) {
     for (int t = 0; t < nt; ++t) {

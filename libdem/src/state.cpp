@@ -34,8 +34,10 @@ using detail::Wall;
 // names (all its materials use solid_lattice); formats 1 and 2 stored groups as one bit per
 // group (at most 32) instead of group sets, and had no radial loads; formats 1 to 3 had
 // linear force histories only (no ramp); formats 1 to 4 stored a force accumulator per
-// particle, zero between steps, which is not read. All are still read.
-constexpr std::int64_t kFormat = 5;
+// particle, zero between steps, which is not read; formats 1 to 5 held the bonds' shear
+// histories in double precision throughout (they are taken into 32-bit steps on loading)
+// and did not count the steps of settling stages (taken as none). All are still read.
+constexpr std::int64_t kFormat = 6;
 constexpr std::int64_t kOldestFormat = 1;
 
 // How a member of type T is stored: bool as uint8, int and enums as int64.
@@ -165,8 +167,8 @@ void pair_list(Io& io, const std::string& name, PairList& L) {
   io.vec(name + "/offsets", L.off);
   io.vec(name + "/partner", L.j);
   io.vec(name + "/state", L.st);
-  io.vec(name + "/shear_displacement", L.us);
-  io.vec(name + "/rest_length", L.r0);  // eccentric lattices only (else empty)
+  io.vec(name + "/shear_displacement", L.us);  // bonds: carried in L.us while saved or loaded
+  io.vec(name + "/rest_length", L.r0);         // eccentric lattices only (else empty)
   io.vec(name + "/stiffness_factor", L.kf);
   if (io.has(name + "/strength_factor"))  // from format 3
     io.vec(name + "/strength_factor", L.sf);
@@ -306,8 +308,12 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
   io.vec("particles/material", *s.mat);
   io.vec("particles/flags", *s.flags);
 
-  // bonds and contacts (CSR by owner) with their state and shear displacement Us
+  // bonds and contacts (CSR by owner) with their state and shear displacement Us. The model
+  // holds the bonds' Us in 32 bits where it can (BondShear); a checkpoint stores them as
+  // doubles, which state_loaded() takes back.
+  if constexpr (!Io::kLoading) s.bonds->us = m.bond_shear();
   pair_list(io, "bonds", *s.bonds);
+  if constexpr (!Io::kLoading) s.bonds->us = {};
   pair_list(io, "contacts", *s.contacts);
 
   // per-particle boundary-condition records: trapezoid-rule history of the reaction work
@@ -351,6 +357,8 @@ void describe(Io& io, ModelBase& m, const StateRefs& s) {
   io.scalar("run/energy_tiny", *s.energy_tiny);
   io.scalar("run/skin", *s.skin);
   io.scalar("run/displacement_bound", *s.disp_bound);  // Verlet-list rebuild counter
+  if (io.has("run/settled_steps"))                     // from format 6
+    io.scalar("run/settled_steps", *s.settled);
   io.scalar("run/bcs_dirty", *s.bcs_dirty);
   io.scalar("run/energy_valid", *s.energy_valid);
   io.scalar("run/budget_dirty", *s.budget_dirty);
@@ -465,7 +473,15 @@ std::uint64_t Model<D>::state_hash() const {
   for (const auto* L : {&bonds, &contacts}) {
     h = fnv(h, L->j.data(), L->j.size() * 4);
     h = fnv(h, L->st.data(), L->st.size());
-    h = fnv(h, L->us.data(), L->us.size() * sizeof(double));
+    if (L == &contacts) {
+      h = fnv(h, L->us.data(), L->us.size() * sizeof(double));
+    } else if (!bond_us.empty()) {  // the values, not where they are held
+      for (std::size_t k = 0; k < bonds.size(); ++k) {
+        double u[kNs];
+        bond_us.load(k, u);
+        h = fnv(h, u, sizeof u);
+      }
+    }
   }
   return h;
 }
@@ -500,6 +516,7 @@ StateRefs Model<D>::state_refs() {
   r.energy_tiny = &energy_tiny;
   r.skin = &skin;
   r.disp_bound = &disp_bound;
+  r.settled = &settled;
   r.initialised = &initialised;
   r.bcs_dirty = &bcs_dirty;
   r.energy_valid = &energy_valid;
@@ -518,6 +535,11 @@ void Model<D>::state_loaded() {
                    (bonds.us.size() == bonds.size() * kNs && contacts.us.size() == contacts.size() * kNs),
                IO,
                "damaged state: pairs without shear displacements, but the pair law has a shear stiffness");
+  if (keeps_shear())
+    bond_us.take(bonds.us, bonds.st, shear_unit());
+  else
+    bond_us.clear();
+  bonds.us = {};
   set_load_directions();  // derived from the start positions
   inv_cache.clear();
   sorted = true;

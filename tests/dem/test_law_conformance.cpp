@@ -151,6 +151,7 @@ dem::detail::BondCases make_cases(Rng& r, const Material& m, int dim, int rest, 
   cs.rest = rest;
   cs.energy = energy;
   cs.dt = 1e-8 * r.uniform(0.5, 2);
+  cs.step = static_cast<std::int64_t>(r.pick(1000000));
   const double d = 1e-3;
   const double fn_max0 = std::isfinite(m.tensile_strength) ? m.tensile_strength : 1e4;
   const double fs00 = std::isfinite(m.shear_strength) ? m.shear_strength : 3e4;
@@ -266,15 +267,19 @@ long compare(const dem::detail::BondCases& cs, const dem::detail::BondResults& r
       if ((ref.st[i] & ps::kTouching) && cap > 0 && cs.material.ks * std::sqrt(u2) > (1 - 1e-9) * cap)
         ++cov.slipping;
     }
-    // verdict: the bond pass leaves exactly the bonds that break now to the reference kernel
-    if ((bat.verdict[i] != 0) != (ref.verdict[i] != 0)) {
+    // verdict: the bond pass leaves exactly the bonds that break now to the reference
+    // kernel, and those whose shear history leaves the 32-bit steps now
+    if ((bat.verdict[i] != 0) != (ref.verdict[i] != 0 || ref.widened[i] != 0)) {
       report(i, "verdict");
       continue;
     }
     if (bat.verdict[i]) {
-      // left to the reference kernel: the stored state must be untouched
+      // left to the reference kernel: the stored state must be untouched (Us as the bond
+      // pass held it, in 32-bit steps for an intact bond, and read as the reference did)
       bool kept = bat.st[i] == cs.st[i];
-      for (int a = 0; a < ns; ++a) kept = kept && same_bits(bat.us[i][a], cs.us[i][a]);
+      for (int a = 0; a < ns; ++a)
+        kept = kept && same_bits(bat.us[i][a], bat.us_before[i][a]) &&
+               same_bits(bat.us_before[i][a], ref.us_before[i][a]);
       if (!kept) report(i, "stored state of a bond left to the reference kernel");
       continue;
     }

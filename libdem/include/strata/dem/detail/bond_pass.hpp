@@ -18,6 +18,18 @@ concept HasLane = requires(const Law& l, const BondLane<NS>& b) {
   { l.template lane<NS, true, true>(b) } -> std::same_as<BondLaneResult<NS>>;
 };
 
+/// The largest shear displacement an intact bond of law l holds (Law::intact_shear_reach,
+/// m) where the law says and it is finite, else 0.
+template <class Law>
+double shear_reach_of(const Law& l) {
+  if constexpr (requires { l.intact_shear_reach(); }) {
+    const double r = l.intact_shear_reach();
+    return std::isfinite(r) ? r : 0.0;
+  } else {
+    return 0.0;
+  }
+}
+
 /// How the bond pass gets a bond's rest length.
 enum Rest { kRadiusSum, kUniform, kPerBond };
 
@@ -27,8 +39,16 @@ inline constexpr std::size_t kChunk = 128;
 /// Bond pass pointers of one block (indexed by the block's bond position q).
 struct BondSpan {
   const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf, *sf;
-  double *F0, *F1, *F2, *en, *us;
-  bool keep_us;  // false: us points at zeros the pass reads and must not write (no shear history)
+  double *F0, *F1, *F2, *en;
+  /// The shear histories (BondShear): uq at the span's first bond, kNs per bond; wide, the
+  /// wide bonds' entries (at least one, so that a select may read entry 0); unit and its
+  /// inverse. keep_us false: uq points at zeros the pass reads and must not write (no shear
+  /// history; unit and inv are then 0).
+  std::int32_t* uq;
+  double* wide;
+  double unit, inv;
+  bool keep_us;
+  std::uint32_t k0, salt;  // the index of the span's first bond, and BondShear::salt_of(step)
   const std::uint8_t* own;
   const std::uint32_t* j;
   std::uint8_t *st, *slow;
@@ -57,7 +77,10 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   const std::uint32_t* __restrict bj = sp.j;
   std::uint8_t* __restrict bst = sp.st;
   std::uint8_t* __restrict slow = sp.slow;
-  double* __restrict bus = sp.us;
+  std::int32_t* __restrict buq = sp.uq;
+  double* __restrict bwide = sp.wide;
+  const double unit = sp.unit, inv = sp.inv;
+  const std::uint32_t k0 = sp.k0, salt = sp.salt;
   double* __restrict EN = sp.en;
   const std::uint32_t up0 = sp.p0, ee = sp.e;
   const Law law = L;  // a local copy: its parameters cannot alias the stores below
@@ -65,11 +88,20 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   // vectorises 64 bonds at a time (8 registers per double) and spills.
   const std::size_t len_q = qb - qa;
   alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
-  alignas(64) double NU[kNs][kChunk];  // new shear displacements (stored for fast bonds only)
+  // the entry of a wide bond's history in bwide, or -1 (with kBroken only: a chunk without
+  // a broken or wide bond holds every history in 32 bits)
+  alignas(64) std::int64_t WI[kChunk];
+  alignas(64) std::int64_t IN32[kChunk];     // the new history is held in 32 bits
+  alignas(64) std::int32_t QN[kNs][kChunk];  // and this is it (BondShear::rounded)
+  alignas(64) double NU[kNs][kChunk];        // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
     P[i] = up0 + own[qa + i];
     J[i] = bj[qa + i];
-    if constexpr (kBroken) ST[i] = bst[qa + i];
+    if constexpr (kBroken) {
+      ST[i] = bst[qa + i];
+      const std::int32_t h = buq[(qa + i) * kNs];
+      WI[i] = BondShear<kNs>::is_wide(h) ? static_cast<std::int64_t>(BondShear<kNs>::index_of(h)) : -1;
+    }
   }
   const std::int64_t ee64 = ee;
   // The geometry of a bond (gathers, length, normal, Us) and its law. Where broken bonds
@@ -102,13 +134,22 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
       un = R[p] + R[j] - len;
     }
     // shear displacement with this step's increment, and its square
+    // the stored Us: in 32 bits, or for a wide bond (kBroken only) its entry
+    double b[kNs];
+    if constexpr (kBroken) {
+      const bool wide = WI[i] >= 0;
+      const std::int64_t w = wide ? WI[i] : 0;
+      for (int a = 0; a < kNs; ++a) b[a] = wide ? bwide[w * kNs + a] : buq[q * kNs + a] * unit;
+    } else {
+      for (int a = 0; a < kNs; ++a) b[a] = buq[q * kNs + a] * unit;
+    }
     double us[3] = {0, 0, 0};  // the stored Us, turned, plus this step's increment
     if constexpr (D == 2) {
-      us[0] = bus[q] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
+      us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
     } else {
       const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
       const double dun = du0 * n0 + du1 * n1 + du2 * n2;
-      const double b0 = bus[3 * q], b1 = bus[3 * q + 1], b2 = bus[3 * q + 2];
+      const double b0 = b[0], b1 = b[1], b2 = b[kNs - 1];
       const double usn = b0 * n0 + b1 * n1 + b2 * n2;
       us[0] = (b0 - usn * n0) + (du0 - dun * n0);
       us[1] = (b1 - usn * n1) + (du1 - dun * n1);
@@ -131,7 +172,19 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
       b.sf = bsf[q];
     }
     const BondLaneResult<kNs> o = law.template lane<kNs, kBroken, kEnergy>(b);
-    const bool fast = (J[i] < ee64) & o.done;
+    // a bond whose new history needs a wide entry it does not have yet (intact beyond the
+    // reach) is left to the reference kernel, which asks for one
+    bool in32 = true;  // intact and within the reach: held in 32 bits
+    for (int a = 0; a < kNs; ++a) in32 &= std::abs(o.us[a] * inv) <= BondShear<kNs>::kReach;
+    if constexpr (kBroken) in32 &= (o.st & kKindMask) == kIntact;
+    bool held = in32;
+    if constexpr (kBroken) held |= WI[i] >= 0;
+    IN32[i] = in32;
+    const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(q), salt);
+    for (int a = 0; a < kNs; ++a)
+      QN[a][i] = static_cast<std::int32_t>(
+          BondShear<kNs>::nearest((in32 ? o.us[a] * inv : 0.0) + BondShear<kNs>::dither(bits, a)));
+    const bool fast = (J[i] < ee64) & o.done & held;
     SLOW[i] = !fast;
     for (int a = 0; a < kNs; ++a) NU[a][i] = o.us[a];
     if constexpr (kBroken) ST[i] = b.st + static_cast<std::int64_t>(fast) * (o.st - b.st);
@@ -174,21 +227,33 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
     if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
   }
   if (keep_us)
-    for (std::size_t i = 0; i < len_q; ++i)
-      if (!SLOW[i])
-        for (int a = 0; a < kNs; ++a) bus[(qa + i) * kNs + a] = NU[a][i];
+    for (std::size_t i = 0; i < len_q; ++i) {
+      if (SLOW[i]) continue;
+      const std::size_t q = qa + i;
+      if (!kBroken || IN32[i]) {
+        for (int a = 0; a < kNs; ++a) buq[q * kNs + a] = QN[a][i];
+      } else if constexpr (kBroken) {  // wide already (else it was left to the reference kernel)
+        for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
+      }
+    }
 }
 
 /// The bond pass of one block's mq bonds, chunk by chunk: chunks with no broken bond (nearly
 /// all of an unbroken lattice) skip the broken-bond law; the others take the full one.
 template <int D, class Law, bool kEnergy, Rest kRest>
 void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t mq) {
+  constexpr int kNs = kNsOf<D>;
   const std::uint8_t* stq = sp.st;
+  const std::int32_t* uq = sp.uq;
   for (std::size_t qa = 0; qa < mq; qa += kChunk) {
     const std::size_t qb = std::min(mq, qa + kChunk);
     std::uint8_t any = 0;
-    for (std::size_t q = qa; q < qb; ++q) any |= stq[q];
-    if (any == pair_state::kIntact)
+    bool wide = false;
+    for (std::size_t q = qa; q < qb; ++q) {
+      any |= stq[q];
+      wide |= BondShear<kNs>::is_wide(uq[q * kNs]);
+    }
+    if (any == pair_state::kIntact && !wide)
       bond_span<D, Law, kEnergy, kRest, false>(sp, L, dt, d_uniform, qa, qb);
     else
       bond_span<D, Law, kEnergy, kRest, true>(sp, L, dt, d_uniform, qa, qb);

@@ -30,6 +30,10 @@ class LawEngine {
   virtual void set_materials(const std::vector<Material>& pair_materials, int nmat) = 0;
   /// Stiffnesses of the law between materials a and b.
   virtual PairStiffness stiffness(int a, int b) const = 0;
+  /// The largest shear displacement an intact bond of any pair law holds without help from
+  /// friction or a strength factor (m; the law's intact_shear_reach(), Fs0/Ks for the
+  /// solid-lattice law), or 0 where no law says (or none is finite).
+  virtual double shear_reach() const = 0;
   /// One step of the whole model: all pair forces, walls, boundary conditions, the update.
   virtual void step(ModelData<D>& m, const StepCtx& c, bool energy) = 0;
   /// Stored energy of all pairs and walls at the current state, with the increment v·dt the
@@ -49,8 +53,9 @@ class LawEngine {
 struct BondCases {
   Material material;  ///< the bond's (combined) material
   double dt = 0;
-  int rest = 0;        ///< how the bond pass gets the rest length: 0 radius sum, 1 uniform, 2 per bond
-  bool energy = true;  ///< the bond pass also computes energies (as on energy steps)
+  std::int64_t step = 0;  ///< the step number (it seeds the rounding of Us to 32-bit steps)
+  int rest = 0;           ///< how the bond pass gets the rest length: 0 radius sum, 1 uniform, 2 per bond
+  bool energy = true;     ///< the bond pass also computes energies (as on energy steps)
   std::vector<std::array<double, 3>> xp, xj, vp, vj;  ///< positions and velocities
   std::vector<double> rp, rj;                         ///< radii (all equal for rest = 1)
   std::vector<double> r0, kf, sf;         ///< rest length, stiffness and strength factor (rest = 2)
@@ -63,8 +68,14 @@ struct BondCases {
 struct BondResults {
   std::vector<std::array<double, 3>> force;  ///< force on p
   std::vector<std::array<double, 3>> us;     ///< new Us
-  std::vector<std::uint8_t> st;              ///< new state byte
-  std::vector<double> energy;                ///< stored energy after the step
+  /// the stored Us before the step as the path holds it (BondShear: an intact bond's in
+  /// 32-bit steps)
+  std::vector<std::array<double, 3>> us_before;
+  /// reference path: 1 when the new Us needed a wide entry the bond did not have (the
+  /// bond pass leaves such a bond to the reference kernel, as one that breaks)
+  std::vector<std::uint8_t> widened;
+  std::vector<std::uint8_t> st;  ///< new state byte
+  std::vector<double> energy;    ///< stored energy after the step
   /// reference path: how the bond broke in this step (0, 1 tension, 2 shear); bond pass:
   /// 1 when it left the bond to the reference kernel (its results are then the stored ones)
   std::vector<std::uint8_t> verdict;

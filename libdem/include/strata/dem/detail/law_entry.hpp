@@ -10,15 +10,33 @@
 
 namespace strata::dem::detail {
 
+/// The cases' shear histories held as a model holds its bonds' (BondShear), in steps set
+/// by the law's reach (1 mm where it has none), so that both paths read and store them alike.
+template <int D, class Law>
+BondShear<kNsOf<D>> case_shear(const Law& law, const BondCases& cs) {
+  constexpr int kNs = kNsOf<D>;
+  const double reach = shear_reach_of(law);
+  std::vector<double> u(cs.size() * kNs);
+  for (std::size_t i = 0; i < cs.size(); ++i)
+    for (int a = 0; a < kNs; ++a) u[i * kNs + a] = cs.us[i][a];
+  BondShear<kNs> h;
+  h.take(u, cs.st, BondShear<kNs>::unit_for(reach > 0 ? reach : 1e-3));
+  h.fresh.resize(1);
+  return h;
+}
+
 /// The cases through the reference kernel, each as a pair (0, 1) of its own two particles.
 template <int D, class Law>
 BondResults reference_cases(const BondCases& cs) {
   constexpr int kNs = kNsOf<D>;
   const Law law = Law::from_material(cs.material);
+  BondShear<kNs> hist = case_shear<D>(law, cs);
   BondResults r;
   const std::size_t n = cs.size();
   r.force.assign(n, {0, 0, 0});
   r.us.assign(n, {0, 0, 0});
+  r.us_before.assign(n, {0, 0, 0});
+  r.widened.assign(n, 0);
   r.st.assign(n, 0);
   r.energy.assign(n, 0);
   r.verdict.assign(n, 0);
@@ -36,7 +54,8 @@ BondResults reference_cases(const BondCases& cs) {
     }
     std::uint8_t st = cs.st[i];
     double us[kNs];
-    for (int a = 0; a < kNs; ++a) us[a] = cs.us[i][a];
+    hist.load(i, us);
+    for (int a = 0; a < kNs; ++a) r.us_before[i][a] = us[a];
     // the step's law_for: an intact bond of an eccentric lattice has its stiffness scaled
     const bool scaled = cs.rest == 2 && (st & pair_state::kKindMask) == pair_state::kIntact;
     const double rest = cs.rest == 2 ? cs.r0[i] : cs.rp[i] + cs.rj[i];
@@ -45,6 +64,12 @@ BondResults reference_cases(const BondCases& cs) {
     const double e = Engine<D, Law>::template pair_force<true>(
         X, V, rest, 0, 1, st, us, scaled ? bond_law(law, cs.kf[i], cs.sf[i]) : law, cs.dt, F, broke);
     for (int a = 0; a < D; ++a) r.force[i][a] = F[a];
+    const bool was_wide = BondShear<kNs>::is_wide(hist.q[i * kNs]);
+    hist.store(0, i, BondShear<kNs>::salt_of(cs.step), (st & pair_state::kKindMask) == pair_state::kIntact,
+               us);
+    r.widened[i] = !was_wide && !hist.fresh[0].empty();
+    hist.merge();
+    hist.load(i, us);
     for (int a = 0; a < kNs; ++a) r.us[i][a] = us[a];
     r.st[i] = st;
     r.energy[i] = e;
@@ -76,7 +101,10 @@ BondResults batch_cases(const BondCases& cs) {
     V[a].assign(2 * n, 0.0);
     F[a].assign(n, 0.0);
   }
-  std::vector<double> R(2 * n), r0(cs.r0), kf(cs.kf), sf(cs.sf), en(n, 0.0), us(n * kNs);
+  std::vector<double> R(2 * n), r0(cs.r0), kf(cs.kf), sf(cs.sf), en(n, 0.0);
+  BondShear<kNs> hist = case_shear<D>(law, cs);
+  const std::vector<double> before = hist.expanded();
+  double no_wide[kNs] = {};
   std::vector<std::uint32_t> j(n);
   std::vector<std::uint8_t> own(n), st(cs.st), slow(n, 0);
   for (std::size_t i = 0; i < n; ++i) {
@@ -90,7 +118,6 @@ BondResults batch_cases(const BondCases& cs) {
     R[n + i] = cs.rj[i];
     j[i] = static_cast<std::uint32_t>(n + i);
     own[i] = static_cast<std::uint8_t>(i % kChunk);
-    for (int a = 0; a < kNs; ++a) us[i * kNs + a] = cs.us[i][a];
   }
   for (std::size_t c0 = 0; c0 < n; c0 += kChunk) {
     const std::size_t mq = std::min(kChunk, n - c0);
@@ -108,8 +135,13 @@ BondResults batch_cases(const BondCases& cs) {
                       F[1].data() + c0,
                       F[D - 1].data() + c0,
                       en.data() + c0,
-                      us.data() + c0 * kNs,
+                      hist.q.data() + c0 * kNs,
+                      hist.wide.empty() ? no_wide : hist.wide.data(),
+                      hist.unit,
+                      hist.inv,
                       true,
+                      static_cast<std::uint32_t>(c0),
+                      BondShear<kNs>::salt_of(cs.step),
                       own.data() + c0,
                       j.data() + c0,
                       st.data() + c0,
@@ -125,12 +157,18 @@ BondResults batch_cases(const BondCases& cs) {
   BondResults r;
   r.force.assign(n, {0, 0, 0});
   r.us.assign(n, {0, 0, 0});
+  r.us_before.assign(n, {0, 0, 0});
   r.st = st;
   r.energy = en;
   r.verdict = slow;
   for (std::size_t i = 0; i < n; ++i) {
     for (int a = 0; a < D; ++a) r.force[i][a] = F[a][i];
-    for (int a = 0; a < kNs; ++a) r.us[i][a] = us[i * kNs + a];
+    double us[kNs];
+    hist.load(i, us);
+    for (int a = 0; a < kNs; ++a) {
+      r.us[i][a] = us[a];
+      r.us_before[i][a] = before[i * kNs + a];
+    }
   }
   return r;
 }

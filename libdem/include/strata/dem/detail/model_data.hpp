@@ -3,11 +3,13 @@
 // model itself (set-up, search, time step, probes, checkpoints) is libdem/src/model.hpp;
 // the kernel is in a header so that a law added from outside libdem (register_law.hpp)
 // gets a step loop compiled for it.
+#include <strata/dem/laws/common.hpp>
 #include <strata/dem/simulation.hpp>
 
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -80,7 +82,10 @@ struct PairList {
   std::vector<std::uint32_t> off{0};
   std::vector<std::uint32_t> j;
   std::vector<std::uint8_t> st;
-  std::vector<double> us;  // NS shear components per pair; empty when the model keeps none
+  /// NS shear components per pair; empty when the model keeps none. Bonds keep theirs in
+  /// ModelData::bond_us (32 bits where it suffices) and fill this one only to carry them
+  /// (checkpoints, reordering).
+  std::vector<double> us;
   // Bonds given as data only (Simulation::set_bonds; empty otherwise): rest length (the
   // initial centre distance), stiffness factor and strength factor of each bond; all apply
   // while the bond is intact.
@@ -90,6 +95,159 @@ struct PairList {
     return off.capacity() * 4 + j.capacity() * 4 + st.capacity() +
            (us.capacity() + r0.capacity() + kf.capacity() + sf.capacity()) * 8;
   }
+};
+
+/// The shear histories of a model's bonds, NS components each, in 32 bits where that holds
+/// them closely enough. An intact bond's components are integer multiples of `unit`, a power
+/// of two chosen so that kReach = 2^30 units span at least twice the largest shear
+/// displacement an intact bond of the model's pair laws holds (Fs0/Ks for the solid-lattice
+/// law): the spacing is then under 4e-9 of that reach (3.6e-15 m for the rock of Liu,
+/// Pollard & Shi 2013), against increments of about 3e-13 m per step in a quasi-static run.
+/// Each step's new value is rounded to a neighbouring step at random, up with probability
+/// equal to its fraction of the step (stochastic rounding), so that the rounding adds no
+/// bias: rounding to nearest would repeat the same error every step where the increments
+/// are steady (a quasi-static run), up to 0.6 % of the history there. The random numbers
+/// are a hash of the bond's index, the step number and the component, so the results do not
+/// depend on the thread count and a restart continues with the same bits. A bond the
+/// 32 bits cannot hold is "wide": a broken bond (its friction slip is not bounded by a
+/// strength) or an intact one beyond the reach (a bond strengthened by friction, or by its
+/// strength factor). Its first slot then holds the index of its entry in `wide`, where its
+/// components are kept in double precision. Which bonds are wide follows from the state
+/// alone (broken, or beyond the reach), so a model reloaded from a checkpoint continues with
+/// the same bits; the order of the entries in `wide` is not part of the state.
+template <int NS>
+struct BondShear {
+  static constexpr double kReach = 1073741824.0;          ///< 2^30: the largest |component|/unit held
+  static constexpr std::int32_t kWideBelow = -(1 << 30);  ///< a first slot below it marks a wide bond
+  std::vector<std::int32_t> q;                            ///< NS per bond
+  std::vector<double> wide;  ///< NS per wide bond (and stale entries of bonds held in 32 bits again)
+  double unit = 0, inv = 0;  ///< powers of two; inv = 1/unit
+  /// A bond that became wide during a step, with its new components.
+  struct Fresh {
+    std::uint32_t k;
+    double u[NS];
+  };
+  /// Per thread of the plan: the bonds that became wide in this step; merge() gives them
+  /// their entries when the step is done, in thread order.
+  std::vector<std::vector<Fresh>> fresh;
+
+  bool empty() const { return q.empty(); }
+  static bool is_wide(std::int32_t h) { return h < kWideBelow; }
+  static std::size_t index_of(std::int32_t h) { return static_cast<std::uint32_t>(h) ^ 0x80000000u; }
+  static std::int32_t code_of(std::size_t index) {
+    return static_cast<std::int32_t>(static_cast<std::uint32_t>(index) ^ 0x80000000u);
+  }
+  /// x rounded to the nearest integer, ties to even (|x| < 2^51; no rounding-mode change).
+  static double nearest(double x) { return (x + 0x1.8p52) - 0x1.8p52; }
+  /// The salt of step `step`: a hash of its number (Wellons' lowbias32, good avalanche).
+  static std::uint32_t salt_of(std::int64_t step) {
+    std::uint32_t h = static_cast<std::uint32_t>(step) ^ static_cast<std::uint32_t>(step >> 32);
+    h ^= h >> 16;
+    h *= 0x7feb352du;
+    h ^= h >> 15;
+    h *= 0x846ca68bu;
+    h ^= h >> 16;
+    return h;
+  }
+  /// 32 random bits for bond k in the step of `salt`: the salt, a hash of the step number,
+  /// offset by a Weyl sequence over the bonds (one multiply per bond in the step loop). Over
+  /// the steps, a bond's bits are the hash's shifted by a constant.
+  static std::uint32_t dither_bits(std::uint32_t k, std::uint32_t salt) { return k * 0x9e3779b1u + salt; }
+  /// An offset in (-1/2, 1/2), a multiple of 1/1024 plus 1/2048, from 10 of the bits h =
+  /// dither_bits(k, salt), different ones for each component a: nearest(x + offset) rounds
+  /// x up with probability equal to its fraction, to within 1/2048 of a step.
+  static double dither(std::uint32_t h, int a) {
+    return static_cast<double>((h >> (22 - 10 * a)) & 1023u) * 0x1p-10 + (0x1p-11 - 0.5);
+  }
+  /// Component a of a bond in steps, stochastically rounded with h = dither_bits(k, salt)
+  /// (u within the reach).
+  std::int32_t rounded(double u, std::uint32_t h, int a) const {
+    return static_cast<std::int32_t>(nearest(u * inv + dither(h, a)));
+  }
+  /// The unit for bonds that hold up to `reach` (m) while intact.
+  static double unit_for(double reach) {
+    int e = 0;
+    const double m = std::frexp(2 * reach / kReach, &e);  // m in [0.5, 1)
+    return std::ldexp(1.0, m == 0.5 ? e - 1 : e);
+  }
+  bool fits(const double* u) const {
+    bool ok = true;
+    for (int a = 0; a < NS; ++a) ok &= std::abs(u[a] * inv) <= kReach;
+    return ok;
+  }
+  /// Bond k's components into u.
+  void load(std::size_t k, double* u) const {
+    const std::int32_t* h = q.data() + k * NS;
+    if (is_wide(h[0])) {
+      const double* w = wide.data() + index_of(h[0]) * NS;
+      for (int a = 0; a < NS; ++a) u[a] = w[a];
+    } else {
+      for (int a = 0; a < NS; ++a) u[a] = h[a] * unit;
+    }
+  }
+  /// Stores bond k's new components (thread t's step, salt salt_of(step)): in 32 bits when
+  /// the bond is intact and within the reach, else in its wide entry, which a bond that was
+  /// not wide gets at the step's end (merge).
+  void store(int t, std::size_t k, std::uint32_t salt, bool intact, const double* u) {
+    std::int32_t* h = q.data() + k * NS;
+    if (intact && fits(u)) {
+      const std::uint32_t bits = dither_bits(static_cast<std::uint32_t>(k), salt);
+      for (int a = 0; a < NS; ++a) h[a] = rounded(u[a], bits, a);
+    } else if (is_wide(h[0])) {
+      double* w = wide.data() + index_of(h[0]) * NS;
+      for (int a = 0; a < NS; ++a) w[a] = u[a];
+    } else {
+      Fresh f{static_cast<std::uint32_t>(k), {}};
+      for (int a = 0; a < NS; ++a) f.u[a] = u[a];
+      fresh[static_cast<std::size_t>(t)].push_back(f);
+    }
+  }
+  /// Gives the bonds that became wide in the step their entries (serial, after the step).
+  void merge() {
+    for (auto& list : fresh) {
+      for (const Fresh& f : list) {
+        q[std::size_t{f.k} * NS] = code_of(wide.size() / NS);
+        wide.insert(wide.end(), f.u, f.u + NS);
+      }
+      list.clear();
+    }
+  }
+  /// Zero histories for `bonds` bonds, held in steps of `new_unit`.
+  void reset(std::size_t bonds, double new_unit) {
+    q.assign(bonds * NS, 0);
+    wide.clear();
+    unit = new_unit;
+    inv = 1.0 / new_unit;
+  }
+  void clear() {
+    q.clear();
+    q.shrink_to_fit();
+    wide.clear();
+    wide.shrink_to_fit();
+  }
+  /// All bonds' components, NS per bond (checkpoints, reordering).
+  std::vector<double> expanded() const {
+    std::vector<double> u(q.size());
+    for (std::size_t k = 0; k < q.size() / NS; ++k) load(k, u.data() + k * NS);
+    return u;
+  }
+  /// Takes components u (NS per bond) of bonds in states st, held in steps of `new_unit`:
+  /// a broken bond or one beyond the reach wide, the others rounded to the nearest step
+  /// (values saved from 32 bits in the same steps come back exactly).
+  void take(const std::vector<double>& u, const std::vector<std::uint8_t>& st, double new_unit) {
+    reset(st.size(), new_unit);
+    for (std::size_t k = 0; k < st.size(); ++k) {
+      const double* uk = u.data() + k * NS;
+      const bool intact = (st[k] & pair_state::kKindMask) == pair_state::kIntact;
+      if (intact && fits(uk)) {
+        for (int a = 0; a < NS; ++a) q[k * NS + a] = static_cast<std::int32_t>(nearest(uk[a] * inv));
+      } else {
+        q[k * NS] = code_of(wide.size() / NS);
+        wide.insert(wide.end(), uk, uk + NS);
+      }
+    }
+  }
+  std::size_t bytes() const { return q.capacity() * 4 + wide.capacity() * 8; }
 };
 
 /// Boundary condition of one particle (only particles with a condition have one).
@@ -178,7 +336,7 @@ struct Scratch {
   std::vector<double> en;
   std::vector<std::uint8_t> slow;
   /// Zero shear histories the bond pass reads where the model keeps none (never written).
-  std::vector<double> no_us;
+  std::vector<std::int32_t> no_us;
   void fit(std::size_t m) {
     if (en.size() >= m) return;
     for (auto& a : fb) a.resize(m);
@@ -191,6 +349,9 @@ struct Scratch {
 struct StepCtx {
   double dt, t, g[3];
   std::int64_t step;
+  /// Seeds the rounding of the bonds' shear histories (BondShear::salt_of of the steps
+  /// taken in all, settling included: a settling stage resets `step`).
+  std::uint32_t salt;
   std::vector<std::array<double, 3>> hist;  // force of each force history at time t
   Settings::Damping damping;
   double viscous_c, local_alpha;
@@ -210,6 +371,7 @@ struct ModelData {
   std::vector<std::uint32_t> id, grp;
   std::vector<std::uint8_t> mat, flags;  // flags bit 0: particle has a boundary condition
   PairList bonds, contacts;
+  BondShear<kNs> bond_us;       // the bonds' shear histories (empty when the model keeps none)
   std::vector<BcParticle> bcp;  // sorted by index
   std::vector<BlockAcc> acc;
 
@@ -303,6 +465,18 @@ struct ModelData {
       return none;
     }
     return &L.us[std::size_t{k} * kNs];
+  }
+
+  /// Pair k of L's shear history into u: zeros when the model keeps none.
+  void load_us(const PairList& L, std::uint32_t k, double* u) const {
+    if (&L == &bonds) {
+      if (bond_us.empty())
+        for (int s = 0; s < kNs; ++s) u[s] = 0.0;
+      else
+        bond_us.load(k, u);
+    } else {
+      for (int s = 0; s < kNs; ++s) u[s] = L.us.empty() ? 0.0 : L.us[std::size_t{k} * kNs + s];
+    }
   }
 
   /// Whether pair k of L is an intact bond given as data, whose Kn and Ks are scaled by its

@@ -52,6 +52,13 @@ class Engine final : public LawEngine<D> {
       dispatch<true>(m, c);
     else
       dispatch<false>(m, c);
+    if (!m.bond_us.empty()) m.bond_us.merge();  // bonds that became wide get their entries
+  }
+
+  double shear_reach() const override {
+    double r = 0;
+    for (const Law& l : laws) r = std::max(r, shear_reach_of(l));
+    return r;
   }
 
   /// One pair: geometry (normal, tangential increment, turning of the stored shear
@@ -148,7 +155,7 @@ class Engine final : public LawEngine<D> {
         const std::uint32_t j = L.j[k];
         std::uint8_t st = L.st[k];
         double us[kNs];
-        for (int s = 0; s < kNs; ++s) us[s] = L.us.empty() ? 0.0 : L.us[std::size_t{k} * kNs + s];
+        m.load_us(L, k, us);
         double F[D];
         int broke = 0;
         // forces at the current state without the pending increment (dt = 0)
@@ -207,7 +214,7 @@ class Engine final : public LawEngine<D> {
       const std::uint32_t j = L.j[k];
       std::uint8_t st = L.st[k];
       double us[kNs];
-      for (int s = 0; s < kNs; ++s) us[s] = L.us.empty() ? 0.0 : L.us[std::size_t{k} * kNs + s];
+      m.load_us(L, k, us);
       double F[D];
       int broke = 0;
       const double e =
@@ -224,6 +231,22 @@ class Engine final : public LawEngine<D> {
     m.evbuf[t].push_back(ev);
   }
 
+  /// pair_force on bond k of thread t's step, with its shear history taken from the bonds'
+  /// store and put back.
+  template <bool kEnergy>
+  double bond_force(ModelData<D>& m, int t, const StepCtx& c, const double* const* X, const double* const* V,
+                    std::size_t p, std::uint32_t k, double* F, int& broke) const {
+    const std::uint32_t j = m.bonds.j[k];
+    double us[kNs];
+    m.load_us(m.bonds, k, us);
+    std::uint8_t& st = m.bonds.st[k];
+    const double e = pair_force<kEnergy>(X, V, m.rest_of(m.bonds, k, p, j), p, j, st, us,
+                                         law_for(m, m.bonds, k, p, j), c.dt, F, broke);
+    if (!m.bond_us.empty())
+      m.bond_us.store(t, k, c.salt, (st & pair_state::kKindMask) == pair_state::kIntact, us);
+    return e;
+  }
+
   // Phase A: the cross pairs this thread owns.
   template <bool kEnergy>
   void phase_a(ModelData<D>& m, int t, const StepCtx& c) const {
@@ -235,13 +258,15 @@ class Engine final : public LawEngine<D> {
     }
     auto run_list = [&](const std::vector<std::array<std::uint32_t, 2>>& own, std::size_t base, PairList& L,
                         std::vector<double>& slots) {
+      const bool is_bonds = &L == &m.bonds;
       for (std::size_t s = 0; s < own.size(); ++s) {
         const std::uint32_t p = own[s][0], k = own[s][1], j = L.j[k];
         double F[D], none[kNs];
         int broke = 0;
-        const double e =
-            pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k], ModelData<D>::us_of(L, k, none),
-                                law_for(m, L, k, p, j), c.dt, F, broke);
+        const double e = is_bonds ? bond_force<kEnergy>(m, t, c, X, V, p, k, F, broke)
+                                  : pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k],
+                                                        ModelData<D>::us_of(L, k, none),
+                                                        law_for(m, L, k, p, j), c.dt, F, broke);
         if (broke) [[unlikely]]
           record(m, t, c.step, p, j, broke);
         double* out = &slots[(base + s) * (D + 1)];
@@ -306,8 +331,9 @@ class Engine final : public LawEngine<D> {
     std::uint8_t* slow = S.slow.data();
     const double dt = c.dt;
     const std::uint32_t ee = static_cast<std::uint32_t>(e);
-    const bool keep_us = !m.bonds.us.empty();
-    if (!keep_us && S.no_us.size() < mq * kNs) S.no_us.assign(mq * kNs, 0.0);
+    const bool keep_us = !m.bond_us.empty();
+    if (!keep_us && S.no_us.size() < mq * kNs) S.no_us.assign(mq * kNs, 0);
+    static double no_wide[kNs] = {};  // read (and discarded) where no bond is wide
     if constexpr (HasLane<Law, kNs>) {
       if (nmat == 1) {
         // one pointer per axis (arrays of pointers keep GCC from vectorising the 3D loop)
@@ -325,8 +351,13 @@ class Engine final : public LawEngine<D> {
                           FB[1],
                           FB[D - 1],
                           EN,
-                          keep_us ? m.bonds.us.data() + std::size_t{k0} * kNs : S.no_us.data(),
+                          keep_us ? m.bond_us.q.data() + std::size_t{k0} * kNs : S.no_us.data(),
+                          m.bond_us.wide.empty() ? no_wide : m.bond_us.wide.data(),
+                          keep_us ? m.bond_us.unit : 0.0,
+                          keep_us ? m.bond_us.inv : 0.0,
                           keep_us,
+                          k0,
+                          c.salt,
                           own,
                           bj,
                           m.bonds.st.data() + k0,
@@ -353,11 +384,9 @@ class Engine final : public LawEngine<D> {
       if (!slow[q] || bj[q] >= ee) [[likely]]
         continue;
       const std::uint32_t p = up0 + own[q], j = bj[q], k = k0 + static_cast<std::uint32_t>(q);
-      double F[D], none[kNs];
+      double F[D];
       int broke = 0;
-      EN[q] = pair_force<kEnergy>(X, V, m.rest_of(m.bonds, k, p, j), p, j, m.bonds.st[k],
-                                  ModelData<D>::us_of(m.bonds, k, none), law_for(m, m.bonds, k, p, j), dt, F,
-                                  broke);
+      EN[q] = bond_force<kEnergy>(m, t, c, X, V, p, k, F, broke);
       for (int a = 0; a < D; ++a) FB[a][q] = F[a];
       if (broke) [[unlikely]]
         record(m, t, c.step, p, j, broke);

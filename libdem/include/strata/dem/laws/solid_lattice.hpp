@@ -48,6 +48,11 @@ struct SolidLatticeLaw {
   /// Tangent stiffnesses, for the critical time step.
   inline PairStiffness stiffness() const { return {kn, ks}; }
 
+  /// The largest shear displacement an intact bond holds without friction's help: Fs0/Ks
+  /// (m; infinite for unbreakable bonds). strata sizes the 32-bit steps of intact bonds'
+  /// shear histories on it (BondShear).
+  inline double intact_shear_reach() const { return ks > 0 ? fs0 / ks : 0.0; }
+
   /// Shear strength of an intact bond carrying normal force fn.
   inline double intact_shear_limit(double fn) const {
     return friction_strengthens_bonds ? fs0 + mu * std::max(fn, 0.0) : fs0;
