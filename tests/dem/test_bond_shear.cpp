@@ -32,10 +32,10 @@ TEST(BondShear, TheStepIsThePowerOfTwoThatSpansTwiceTheReach) {
 TEST(BondShear, IntactBondsWithinTheReachIn32BitsTheOthersExactly) {
   const double unit = std::ldexp(1.0, -48);
   const double reach = Shear3::kReach * unit;
-  const std::vector<double> u = {1.234567e-7,   -3.3e-9,     5e-16,         // intact, within
-                                 1.1 * reach,   0,           0,             // intact, beyond
-                                 2.5e-7,        -1e-6,       1e-20,         // broken
-                                 -0.99 * reach, 0.5 * reach, 1.000001e-6};  // intact, within
+  const std::vector<double> u = {1.234567e-7,  -3.3e-9,     5e-16,         // intact, within
+                                 1.1 * reach,  0,           0,             // intact, beyond
+                                 2.5e-7,       -1e-6,       1e-20,         // broken
+                                 -0.8 * reach, 0.5 * reach, 1.000001e-6};  // intact, |Us| within
   const std::vector<std::uint8_t> st = {ps::kIntact, ps::kIntact, ps::kBrokenShear | ps::kTouching,
                                         ps::kIntact};
   Shear3 h;

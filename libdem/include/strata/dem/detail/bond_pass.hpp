@@ -48,6 +48,7 @@ struct BondSpan {
   double* wide;
   double unit, inv;
   bool keep_us;
+  bool intact_wide;        // an intact bond may be wide (BondShear::intact_wide)
   std::uint32_t k0, salt;  // the index of the span's first bond, and BondShear::salt_of(step)
   const std::uint8_t* own;
   const std::uint32_t* j;
@@ -90,10 +91,10 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
   // the entry of a wide bond's history in bwide, or -1 (with kBroken only: a chunk without
   // a broken or wide bond holds every history in 32 bits)
-  alignas(64) std::int64_t WI[kChunk];
-  alignas(64) std::int64_t IN32[kChunk];     // the new history is held in 32 bits
-  alignas(64) std::int32_t QN[kNs][kChunk];  // and this is it (BondShear::rounded)
-  alignas(64) double NU[kNs][kChunk];        // new shear displacements (stored for fast bonds only)
+  alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
+  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
+  alignas(64) std::int32_t QN[kNs][kChunk];            // and this is it (BondShear::rounded)
+  alignas(64) double NU[kNs][kChunk];                  // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
     P[i] = up0 + own[qa + i];
     J[i] = bj[qa + i];
@@ -101,6 +102,7 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
       ST[i] = bst[qa + i];
       const std::int32_t h = buq[(qa + i) * kNs];
       WI[i] = BondShear<kNs>::is_wide(h) ? static_cast<std::int64_t>(BondShear<kNs>::index_of(h)) : -1;
+      WF[i] = BondShear<kNs>::is_wide(h);
     }
   }
   const std::int64_t ee64 = ee;
@@ -160,6 +162,29 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
     Geo g{{n0, n1, n2}, un, {us[0], us[1], us[2]}, u2};
     return g;
   };
+  // The verdict on bond i of the chunk, whose new state is ost and whose new Us (in NU),
+  // of square u2, the law is done with (done): fast, or left to the reference kernel
+  // (SLOW) where the law is not done, the partner is another thread's, or the new Us needs
+  // a wide entry the bond does not have yet (an intact bond beyond the reach: the reference
+  // kernel asks for one); and a fast bond's Us in 32-bit steps (QN) where it is held so.
+  // Integer lanes: with bools GCC branches.
+  auto keep = [&](std::size_t i, double u2, std::int64_t ost, std::int64_t done) {
+    // intact and within the reach (BondShear::fits: an intact bond's new Us is the one of
+    // square u2)
+    std::int64_t in32 = u2 * (inv * inv) <= BondShear<kNs>::kReach2;
+    std::int64_t held = in32;
+    if constexpr (kBroken) {
+      in32 &= (ost & kKindMask) == kIntact;
+      held = in32 | WF[i];
+    }
+    const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(qa + i), salt);
+    for (int a = 0; a < kNs; ++a)
+      QN[a][i] = static_cast<std::int32_t>(
+          BondShear<kNs>::nearest((in32 != 0 ? NU[a][i] * inv : 0.0) + BondShear<kNs>::dither(bits, a)));
+    const std::int64_t fast = (J[i] < ee64) & done & held;
+    SLOW[i] = !fast;
+    if constexpr (kBroken) ST[i] = ST[i] + fast * (ost - ST[i]);
+  };
   auto apply_law = [&](std::size_t i, const Geo& g) {
     const std::size_t q = qa + i;
     BondLane<kNs> b;
@@ -172,22 +197,13 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
       b.sf = bsf[q];
     }
     const BondLaneResult<kNs> o = law.template lane<kNs, kBroken, kEnergy>(b);
-    // a bond whose new history needs a wide entry it does not have yet (intact beyond the
-    // reach) is left to the reference kernel, which asks for one
-    bool in32 = true;  // intact and within the reach: held in 32 bits
-    for (int a = 0; a < kNs; ++a) in32 &= std::abs(o.us[a] * inv) <= BondShear<kNs>::kReach;
-    if constexpr (kBroken) in32 &= (o.st & kKindMask) == kIntact;
-    bool held = in32;
-    if constexpr (kBroken) held |= WI[i] >= 0;
-    IN32[i] = in32;
-    const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(q), salt);
-    for (int a = 0; a < kNs; ++a)
-      QN[a][i] = static_cast<std::int32_t>(
-          BondShear<kNs>::nearest((in32 ? o.us[a] * inv : 0.0) + BondShear<kNs>::dither(bits, a)));
-    const bool fast = (J[i] < ee64) & o.done & held;
-    SLOW[i] = !fast;
     for (int a = 0; a < kNs; ++a) NU[a][i] = o.us[a];
-    if constexpr (kBroken) ST[i] = b.st + static_cast<std::int64_t>(fast) * (o.st - b.st);
+    if constexpr (kBroken) {  // the verdict in a loop of its own (keep, below)
+      OST[i] = o.st;
+      DONE[i] = o.done;
+    } else {
+      keep(i, b.u2, o.st, o.done);
+    }
     const double n0 = g.n[0], n1 = g.n[1], n2 = g.n[2];
     if constexpr (D == 2) {
       F0[q] = -o.fn * n0 - o.fs[0] * n1;
@@ -216,6 +232,8 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
       for (int a = 0; a < kNs; ++a) g.us[a] = GUS[a][i];
       apply_law(i, g);
     }
+#pragma omp simd
+    for (std::size_t i = 0; i < len_q; ++i) keep(i, GU2[i], OST[i], DONE[i]);
   } else {
 #pragma omp simd
     for (std::size_t i = 0; i < len_q; ++i) apply_law(i, geometry(i));
@@ -230,7 +248,13 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
     for (std::size_t i = 0; i < len_q; ++i) {
       if (SLOW[i]) continue;
       const std::size_t q = qa + i;
-      if (!kBroken || IN32[i]) {
+      bool in32 = true;  // as in the loop above (stored there, it keeps GCC from vectorising)
+      if constexpr (kBroken) {
+        double u[kNs];
+        for (int a = 0; a < kNs; ++a) u[a] = NU[a][i];
+        in32 = ((ST[i] & kKindMask) == kIntact) && BondShear<kNs>::fits(u, inv);
+      }
+      if (in32) {
         for (int a = 0; a < kNs; ++a) buq[q * kNs + a] = QN[a][i];
       } else if constexpr (kBroken) {  // wide already (else it was left to the reference kernel)
         for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
@@ -248,11 +272,10 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
   for (std::size_t qa = 0; qa < mq; qa += kChunk) {
     const std::size_t qb = std::min(mq, qa + kChunk);
     std::uint8_t any = 0;
-    bool wide = false;
-    for (std::size_t q = qa; q < qb; ++q) {
-      any |= stq[q];
-      wide |= BondShear<kNs>::is_wide(uq[q * kNs]);
-    }
+    for (std::size_t q = qa; q < qb; ++q) any |= stq[q];
+    bool wide = false;  // an intact bond that is wide (a broken one is, and sets `any`)
+    if (sp.intact_wide && any == pair_state::kIntact)
+      for (std::size_t q = qa; q < qb; ++q) wide |= BondShear<kNs>::is_wide(uq[q * kNs]);
     if (any == pair_state::kIntact && !wide)
       bond_span<D, Law, kEnergy, kRest, false>(sp, L, dt, d_uniform, qa, qb);
     else

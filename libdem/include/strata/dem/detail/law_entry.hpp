@@ -140,6 +140,7 @@ BondResults batch_cases(const BondCases& cs) {
                       hist.unit,
                       hist.inv,
                       true,
+                      hist.intact_wide,
                       static_cast<std::uint32_t>(c0),
                       BondShear<kNs>::salt_of(cs.step),
                       own.data() + c0,

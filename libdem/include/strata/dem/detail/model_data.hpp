@@ -117,14 +117,19 @@ struct PairList {
 /// the same bits; the order of the entries in `wide` is not part of the state.
 template <int NS>
 struct BondShear {
-  static constexpr double kReach = 1073741824.0;          ///< 2^30: the largest |component|/unit held
+  static constexpr double kReach = 1073741824.0;  ///< 2^30: the largest |Us|/unit held
+  static constexpr double kReach2 = kReach * kReach;
   static constexpr std::int32_t kWideBelow = -(1 << 30);  ///< a first slot below it marks a wide bond
   std::vector<std::int32_t> q;                            ///< NS per bond
   std::vector<double> wide;  ///< NS per wide bond (and stale entries of bonds held in 32 bits again)
   double unit = 0, inv = 0;  ///< powers of two; inv = 1/unit
+  /// Whether an intact bond may be wide (one went beyond the reach at some time): until
+  /// then only broken bonds are, and the bond pass finds them by their state alone.
+  bool intact_wide = false;
   /// A bond that became wide during a step, with its new components.
   struct Fresh {
     std::uint32_t k;
+    bool intact;
     double u[NS];
   };
   /// Per thread of the plan: the bonds that became wide in this step; merge() gives them
@@ -170,11 +175,14 @@ struct BondShear {
     const double m = std::frexp(2 * reach / kReach, &e);  // m in [0.5, 1)
     return std::ldexp(1.0, m == 0.5 ? e - 1 : e);
   }
-  bool fits(const double* u) const {
-    bool ok = true;
-    for (int a = 0; a < NS; ++a) ok &= std::abs(u[a] * inv) <= kReach;
-    return ok;
+  /// Whether components u lie within the reach: |u|/unit <= kReach, from |u|² summed as
+  /// the bond pass sums it (so both paths agree on every bond; inv² is exact).
+  static bool fits(const double* u, double inv) {
+    double u2 = 0;
+    for (int a = 0; a < NS; ++a) u2 += u[a] * u[a];
+    return u2 * (inv * inv) <= kReach2;
   }
+  bool fits(const double* u) const { return fits(u, inv); }
   /// Bond k's components into u.
   void load(std::size_t k, double* u) const {
     const std::int32_t* h = q.data() + k * NS;
@@ -197,7 +205,7 @@ struct BondShear {
       double* w = wide.data() + index_of(h[0]) * NS;
       for (int a = 0; a < NS; ++a) w[a] = u[a];
     } else {
-      Fresh f{static_cast<std::uint32_t>(k), {}};
+      Fresh f{static_cast<std::uint32_t>(k), intact, {}};
       for (int a = 0; a < NS; ++a) f.u[a] = u[a];
       fresh[static_cast<std::size_t>(t)].push_back(f);
     }
@@ -206,6 +214,7 @@ struct BondShear {
   void merge() {
     for (auto& list : fresh) {
       for (const Fresh& f : list) {
+        intact_wide |= f.intact;
         q[std::size_t{f.k} * NS] = code_of(wide.size() / NS);
         wide.insert(wide.end(), f.u, f.u + NS);
       }
@@ -216,6 +225,7 @@ struct BondShear {
   void reset(std::size_t bonds, double new_unit) {
     q.assign(bonds * NS, 0);
     wide.clear();
+    intact_wide = false;
     unit = new_unit;
     inv = 1.0 / new_unit;
   }
@@ -242,6 +252,7 @@ struct BondShear {
       if (intact && fits(uk)) {
         for (int a = 0; a < NS; ++a) q[k * NS + a] = static_cast<std::int32_t>(nearest(uk[a] * inv));
       } else {
+        intact_wide |= intact;
         q[k * NS] = code_of(wide.size() / NS);
         wide.insert(wide.end(), uk, uk + NS);
       }

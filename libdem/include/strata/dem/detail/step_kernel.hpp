@@ -356,6 +356,7 @@ class Engine final : public LawEngine<D> {
                           keep_us ? m.bond_us.unit : 0.0,
                           keep_us ? m.bond_us.inv : 0.0,
                           keep_us,
+                          m.bond_us.intact_wide,
                           k0,
                           c.salt,
                           own,
