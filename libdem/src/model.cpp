@@ -322,7 +322,7 @@ std::size_t Model<D>::memory_bytes() const {
   b += bonds.bytes() + contacts.bytes() + bond_us.bytes();
   b += bcp.capacity() * sizeof(BcParticle) + acc.capacity() * sizeof(BlockAcc);
   b += (cross_b.capacity() + cross_c.capacity()) * sizeof(double);
-  b += bond_owner.capacity() + pend_slot.capacity() * 4;
+  b += pend_slot.capacity() * 4;
   for (const PendingPool& P : pend)
     b += (P.ring.capacity() + P.buf.capacity()) * sizeof(double) + P.spare.capacity() * 4;
   b += events.capacity() * sizeof(BreakEvent);
@@ -340,7 +340,8 @@ std::size_t Model<D>::streamed_bytes_per_step() const {
   // in 32 bits, a contact's in 64)
   const std::size_t pair = 4 + 2;
   std::size_t b = n() * particle + contacts.size() * (pair + (contacts.us.empty() ? 0 : 2 * kNs * 8));
-  b += bonds.size() * (pair + (bond_us.empty() ? 0 : 2 * kNs * 4) + 1);  // and the bond pass's owner byte
+  b += bonds.size() * (pair + (bond_us.empty() ? 0 : 2 * kNs * 4) + 1);  // and the bond pass's owner byte,
+                                                                         // written and read in cache
   if (!bonds.r0.empty()) b += bonds.size() * 3 * sizeof(double);         // rest length, factors
   return b;
 }

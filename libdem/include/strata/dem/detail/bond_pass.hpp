@@ -93,6 +93,7 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   // a broken or wide bond holds every history in 32 bits)
   alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
   alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
+  alignas(64) std::int64_t KEPT[kChunk];               // kBroken: how a bond's new Us is kept (keep, below)
   alignas(64) std::int32_t QN[kNs][kChunk];            // and this is it (BondShear::rounded)
   alignas(64) double NU[kNs][kChunk];                  // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
@@ -183,6 +184,7 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
           BondShear<kNs>::nearest((in32 != 0 ? NU[a][i] * inv : 0.0) + BondShear<kNs>::dither(bits, a)));
     const std::int64_t fast = (J[i] < ee64) & done & held;
     SLOW[i] = !fast;
+    if constexpr (kBroken) KEPT[i] = fast * (2 - in32);  // 0 slow, 1 in 32 bits, 2 wide
     if constexpr (kBroken) ST[i] = ST[i] + fast * (ost - ST[i]);
   };
   auto apply_law = [&](std::size_t i, const Geo& g) {
@@ -244,22 +246,28 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
     slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
     if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
   }
-  if (keep_us)
-    for (std::size_t i = 0; i < len_q; ++i) {
-      if (SLOW[i]) continue;
-      const std::size_t q = qa + i;
-      bool in32 = true;  // as in the loop above (stored there, it keeps GCC from vectorising)
-      if constexpr (kBroken) {
-        double u[kNs];
-        for (int a = 0; a < kNs; ++a) u[a] = NU[a][i];
-        in32 = ((ST[i] & kKindMask) == kIntact) && BondShear<kNs>::fits(u, inv);
-      }
-      if (in32) {
-        for (int a = 0; a < kNs; ++a) buq[q * kNs + a] = QN[a][i];
-      } else if constexpr (kBroken) {  // wide already (else it was left to the reference kernel)
-        for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
-      }
+  if (keep_us) {
+    // fast bonds held in 32 bits: their new steps (a select, so that the loop vectorises);
+    // fast wide ones (broken, mostly): their entries
+    if constexpr (kBroken) {
+#pragma omp simd
+      for (std::size_t i = 0; i < len_q; ++i)
+        for (int a = 0; a < kNs; ++a) {
+          std::int32_t& h = buq[(qa + i) * kNs + a];
+          h = KEPT[i] == 1 ? QN[a][i] : h;
+        }
+      for (std::size_t i = 0; i < len_q; ++i)
+        if (KEPT[i] == 2)
+          for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
+    } else {
+#pragma omp simd
+      for (std::size_t i = 0; i < len_q; ++i)
+        for (int a = 0; a < kNs; ++a) {
+          std::int32_t& h = buq[(qa + i) * kNs + a];
+          h = SLOW[i] == 0 ? QN[a][i] : h;
+        }
     }
+  }
 }
 
 /// The bond pass of one block's mq bonds, chunk by chunk: chunks with no broken bond (nearly

@@ -312,18 +312,25 @@ struct Incoming {
 
 /// Blocks of pending forces a thread keeps in its ring (see PendingPool).
 inline constexpr std::ptrdiff_t kRingBlocks = 32;
+/// Particles per slot of pending forces beyond the ring (see PendingPool): the front's
+/// partners lie scattered there, a few per block, so slots of whole blocks would hold
+/// mostly zeros (the slots of a 10^6-sphere cube on two threads: 4.7 B per sphere in slots
+/// of whole blocks, 2.4 B in slots of 32 particles).
+inline constexpr std::ptrdiff_t kSlot = 32;
+static_assert(kBlock % kSlot == 0, "a block is whole slots");
 
 /// Forces pending for particles not yet updated in a step, one pool per thread of the plan.
 /// A pair's force on its partner j (j > its owner, in the same thread's range) is added to
 /// j's entry when the owner is updated, and read when j is. Entries are held only along the
 /// front between the particles already updated and those still to come, not in an array
 /// over all particles: a ring over the block being updated and the kRingBlocks - 1 after it
-/// (nearly every partner in the spatial order), and for a block further ahead a slot of its
-/// own, taken when a force first arrives and moved into the ring when the block enters it,
-/// so that every entry sums its forces in the same order as one array would.
+/// (nearly every partner in the spatial order), and for a group of kSlot particles further
+/// ahead a slot of its own, taken when a force first arrives and moved into the ring when
+/// its block enters it, so that every entry sums its forces in the same order as one array
+/// would.
 struct PendingPool {
   std::vector<double> ring;  // D × (kRingBlocks · kBlock), component-major; block b at b mod kRingBlocks
-  std::vector<double> buf;   // slots × D × kBlock, component-major within a slot
+  std::vector<double> buf;   // slots × D × kSlot, component-major within a slot
   std::vector<std::int32_t> spare;  // slots free for reuse
 };
 
@@ -346,9 +353,15 @@ struct Scratch {
   std::array<std::vector<double>, D> fb;
   std::vector<double> en;
   std::vector<std::uint8_t> slow;
+  /// The owner of each bond of the block relative to the block's start (one byte: kBlock =
+  /// 256), expanded from the CSR offsets block by block: the bond pass's loops read owners
+  /// from it, and the model keeps no byte per bond for it.
+  std::vector<std::uint8_t> own;
+  static_assert(kBlock <= 256, "own holds owner offsets in one byte");
   /// Zero shear histories the bond pass reads where the model keeps none (never written).
   std::vector<std::int32_t> no_us;
   void fit(std::size_t m) {
+    if (own.size() < m + 8) own.resize(m + 8);  // the owners' eight-byte writes reach 7 past the last bond
     if (en.size() >= m) return;
     for (auto& a : fb) a.resize(m);
     en.resize(m);
@@ -390,13 +403,10 @@ struct ModelData {
   Plan plan;
   std::vector<Scratch<D>> scratch;
   std::vector<std::vector<RawEvent>> evbuf;
-  double uniform_diameter = 0;  // 2r when every particle has radius r, else 0 (set by build_plan)
-  /// Owner of each bond relative to the start of its block (one byte per bond: kBlock =
-  /// 256; the bond pass reads owners from it instead of walking the CSR offsets every step).
-  std::vector<std::uint8_t> bond_owner;
-  static_assert(kBlock <= 256, "bond_owner holds owner offsets in one byte");
+  double uniform_diameter = 0;           // 2r when every particle has radius r, else 0 (set by build_plan)
   std::vector<double> cross_b, cross_c;  // D forces + 1 energy per slot
-  /// Per block: its slot in its thread's pool of pending forces, or -1 (see PendingPool).
+  /// Per group of kSlot particles: its slot in its thread's pool of pending forces, or -1
+  /// (see PendingPool).
   std::vector<std::int32_t> pend_slot;
   std::vector<PendingPool> pend;  // per thread of the plan
 
@@ -407,46 +417,60 @@ struct ModelData {
   static constexpr std::size_t kRingStride = kRing + 16;
 
   /// Subtracts force F from the pending entry of particle j beyond the ring, in thread t's
-  /// pool: the slot of j's block, taken (zeroed) when the block has none yet. Out of line:
-  /// rare, and kept out of the step loop's registers.
+  /// pool: the slot of j's group of kSlot particles, taken (zeroed) when the group has none
+  /// yet. Out of line: rare, and kept out of the step loop's registers.
   [[gnu::noinline, gnu::cold]] void pending_far_sub(int t, std::uint32_t j, const double* F) {
-    const std::size_t blk = j / kBlock;
-    std::int32_t s = pend_slot[blk];
+    const std::size_t grp_of_j = j / kSlot;
+    std::int32_t s = pend_slot[grp_of_j];
     PendingPool& P = pend[t];
     if (s < 0) {
       if (P.spare.empty()) {
-        s = static_cast<std::int32_t>(P.buf.size() / (D * kBlock));
-        P.buf.resize(P.buf.size() + D * kBlock, 0.0);
+        s = static_cast<std::int32_t>(P.buf.size() / (D * kSlot));
+        P.buf.resize(P.buf.size() + D * kSlot, 0.0);
       } else {
         s = P.spare.back();
         P.spare.pop_back();
       }
-      pend_slot[blk] = s;
+      pend_slot[grp_of_j] = s;
     }
-    double* q = P.buf.data() + static_cast<std::size_t>(s) * (D * kBlock) + j % kBlock;
-    for (int a = 0; a < D; ++a) q[a * kBlock] -= F[a];
+    double* q = P.buf.data() + static_cast<std::size_t>(s) * (D * kSlot) + j % kSlot;
+    for (int a = 0; a < D; ++a) q[a * kSlot] -= F[a];
   }
   /// Block blk of thread t (whose range ends at particle e) is updated: its ring entries
   /// are zeroed, and the block kRingBlocks ahead, which takes its place in the ring, brings
-  /// the forces it has pending so far from its slot.
+  /// the forces it has pending so far from its groups' slots.
   void pending_advance(int t, std::ptrdiff_t blk, std::ptrdiff_t e) {
     PendingPool& P = pend[t];
     const std::size_t at = static_cast<std::size_t>(blk % kRingBlocks) * kBlock;
     const std::ptrdiff_t nb = blk + kRingBlocks;
-    const std::int32_t s = nb * kBlock < e ? pend_slot[static_cast<std::size_t>(nb)] : -1;
-    for (int a = 0; a < D; ++a) {
-      double* r = P.ring.data() + a * kRingStride + at;
-      if (s < 0) {
+    bool any = false;  // a slot to bring (else, as mostly, the block's entries start at zero)
+    if (nb * kBlock < e)
+      for (std::ptrdiff_t g = 0; g < kBlock / kSlot; ++g)
+        any |= pend_slot[static_cast<std::size_t>(nb * (kBlock / kSlot) + g)] >= 0;
+    if (!any) {
+      for (int a = 0; a < D; ++a) {
+        double* r = P.ring.data() + a * kRingStride + at;
         std::fill(r, r + kBlock, 0.0);
-      } else {
-        double* q = P.buf.data() + (static_cast<std::size_t>(s) * D + a) * kBlock;
-        std::copy(q, q + kBlock, r);
-        std::fill(q, q + kBlock, 0.0);
       }
+      return;
     }
-    if (s >= 0) {
-      P.spare.push_back(s);
-      pend_slot[static_cast<std::size_t>(nb)] = -1;
+    for (std::ptrdiff_t g = 0; g < kBlock / kSlot; ++g) {
+      const std::size_t grp = static_cast<std::size_t>(nb * (kBlock / kSlot) + g);
+      const std::int32_t s = nb * kBlock + g * kSlot < e ? pend_slot[grp] : -1;
+      for (int a = 0; a < D; ++a) {
+        double* r = P.ring.data() + a * kRingStride + at + g * kSlot;
+        if (s < 0) {
+          std::fill(r, r + kSlot, 0.0);
+        } else {
+          double* q = P.buf.data() + (static_cast<std::size_t>(s) * D + a) * kSlot;
+          std::copy(q, q + kSlot, r);
+          std::fill(q, q + kSlot, 0.0);
+        }
+      }
+      if (s >= 0) {
+        P.spare.push_back(s);
+        pend_slot[grp] = -1;
+      }
     }
   }
 

@@ -316,7 +316,19 @@ class Engine final : public LawEngine<D> {
     const std::size_t mq = k1 - k0;
     Scratch<D>& S = m.scratch[t];
     S.fit(mq);
-    const std::uint8_t* own = m.bond_owner.data() + k0;  // owner - p0
+    std::uint8_t* own = S.own.data();  // owner - p0
+    {
+      const std::uint32_t* off = m.bonds.off.data();
+      // eight bytes per owner at once, each owner overwriting what the one before wrote past
+      // its own bonds (a loop per owner becomes a call to memset per owner); an owner of
+      // more than eight bonds (rare: a lattice has at most six per owner) fills the rest
+      for (std::ptrdiff_t p = p0; p < pe; ++p) {
+        const std::uint32_t a = off[p] - k0, b = off[p + 1] - k0;
+        const std::uint64_t v = 0x0101010101010101ull * static_cast<std::uint64_t>(p - p0);
+        std::memcpy(own + a, &v, 8);
+        for (std::uint32_t k = a + 8; k < b; ++k) own[k] = static_cast<std::uint8_t>(p - p0);
+      }
+    }
     const std::uint32_t up0 = static_cast<std::uint32_t>(p0);
     const double* X[D];
     const double* V[D];
