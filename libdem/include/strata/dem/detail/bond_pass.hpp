@@ -60,9 +60,11 @@ struct BondSpan {
 /// (`Law::lane`) for both kinds of bond: intact and, when kBroken, broken (friction only).
 /// Bitwise & and selects instead of branches, so the loop vectorises; a bond left for the
 /// reference kernel (one breaking now, or a cross bond) keeps its stored state here.
-/// Without kBroken every bond of the range must be intact: the broken-bond law (a square
-/// root and a division per bond) is left out.
-template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken>
+/// Without kBroken every bond of the range must be intact and held in 32 bits: the
+/// broken-bond law (a square root and a division per bond) and the wide entries are left
+/// out. Without kShear the model keeps no shear history (every law's Ks is zero): Us is
+/// zero and nothing is rounded or stored.
+template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
 void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
                std::size_t qb) {
   using namespace pair_state;
@@ -94,13 +96,13 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
   alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
   alignas(64) std::int64_t KEPT[kChunk];               // kBroken: how a bond's new Us is kept (keep, below)
-  alignas(64) std::int32_t QN[kNs][kChunk];            // and this is it (BondShear::rounded)
+  alignas(64) std::int32_t QN[kNs][kChunk];            // a new Us in 32-bit steps (BondShear::rounded)
   alignas(64) double NU[kNs][kChunk];                  // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
     P[i] = up0 + own[qa + i];
     J[i] = bj[qa + i];
-    if constexpr (kBroken) {
-      ST[i] = bst[qa + i];
+    if constexpr (kBroken) ST[i] = bst[qa + i];
+    if constexpr (kBroken && kShear) {
       const std::int32_t h = buq[(qa + i) * kNs];
       WI[i] = BondShear<kNs>::is_wide(h) ? static_cast<std::int64_t>(BondShear<kNs>::index_of(h)) : -1;
       WF[i] = BondShear<kNs>::is_wide(h);
@@ -136,10 +138,12 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
     } else {
       un = R[p] + R[j] - len;
     }
-    // shear displacement with this step's increment, and its square
-    // the stored Us: in 32 bits, or for a wide bond (kBroken only) its entry
+    // shear displacement with this step's increment, and its square; the stored Us is in
+    // 32-bit steps, or for a wide bond (kBroken only) in its entry
     double b[kNs];
-    if constexpr (kBroken) {
+    if constexpr (!kShear) {
+      for (int a = 0; a < kNs; ++a) b[a] = 0.0;
+    } else if constexpr (kBroken) {
       const bool wide = WI[i] >= 0;
       const std::int64_t w = wide ? WI[i] : 0;
       for (int a = 0; a < kNs; ++a) b[a] = wide ? bwide[w * kNs + a] : buq[q * kNs + a] * unit;
@@ -172,20 +176,25 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   auto keep = [&](std::size_t i, double u2, std::int64_t ost, std::int64_t done) {
     // intact and within the reach (BondShear::fits: an intact bond's new Us is the one of
     // square u2)
-    std::int64_t in32 = u2 * (inv * inv) <= BondShear<kNs>::kReach2;
-    std::int64_t held = in32;
-    if constexpr (kBroken) {
-      in32 &= (ost & kKindMask) == kIntact;
-      held = in32 | WF[i];
+    std::int64_t in32 = 0, held = 1;  // without a shear history every bond is held
+    if constexpr (kShear) {
+      in32 = u2 * (inv * inv) <= BondShear<kNs>::kReach2;
+      held = in32;
+      if constexpr (kBroken) {
+        in32 &= (ost & kKindMask) == kIntact;
+        held = in32 | WF[i];
+      }
+      const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(qa + i), salt);
+      for (int a = 0; a < kNs; ++a)
+        QN[a][i] = static_cast<std::int32_t>(
+            BondShear<kNs>::nearest((in32 != 0 ? NU[a][i] * inv : 0.0) + BondShear<kNs>::dither(bits, a)));
     }
-    const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(qa + i), salt);
-    for (int a = 0; a < kNs; ++a)
-      QN[a][i] = static_cast<std::int32_t>(
-          BondShear<kNs>::nearest((in32 != 0 ? NU[a][i] * inv : 0.0) + BondShear<kNs>::dither(bits, a)));
     const std::int64_t fast = (J[i] < ee64) & done & held;
     SLOW[i] = !fast;
-    if constexpr (kBroken) KEPT[i] = fast * (2 - in32);  // 0 slow, 1 in 32 bits, 2 wide
-    if constexpr (kBroken) ST[i] = ST[i] + fast * (ost - ST[i]);
+    if constexpr (kBroken) {
+      if constexpr (kShear) KEPT[i] = fast * (2 - in32);  // 0 slow, 1 in 32 bits, 2 wide
+      ST[i] = ST[i] + fast * (ost - ST[i]);
+    }
   };
   auto apply_law = [&](std::size_t i, const Geo& g) {
     const std::size_t q = qa + i;
@@ -240,13 +249,11 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
 #pragma omp simd
     for (std::size_t i = 0; i < len_q; ++i) apply_law(i, geometry(i));
   }
-  // (keep_us read once: the byte stores below may alias it, and a reload per bond costs 10 %)
-  const bool keep_us = sp.keep_us;
   for (std::size_t i = 0; i < len_q; ++i) {
     slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
     if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
   }
-  if (keep_us) {
+  if constexpr (kShear) {
     // fast bonds held in 32 bits: their new steps (a select, so that the loop vectorises);
     // fast wide ones (broken, mostly): their entries
     if constexpr (kBroken) {
@@ -284,10 +291,17 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
     bool wide = false;  // an intact bond that is wide (a broken one is, and sets `any`)
     if (sp.intact_wide && any == pair_state::kIntact)
       for (std::size_t q = qa; q < qb; ++q) wide |= BondShear<kNs>::is_wide(uq[q * kNs]);
-    if (any == pair_state::kIntact && !wide)
-      bond_span<D, Law, kEnergy, kRest, false>(sp, L, dt, d_uniform, qa, qb);
-    else
-      bond_span<D, Law, kEnergy, kRest, true>(sp, L, dt, d_uniform, qa, qb);
+    const bool broken = any != pair_state::kIntact || wide;
+    if (!sp.keep_us) {  // no shear history: nothing of BondShear is read or written
+      if (broken)
+        bond_span<D, Law, kEnergy, kRest, true, false>(sp, L, dt, d_uniform, qa, qb);
+      else
+        bond_span<D, Law, kEnergy, kRest, false, false>(sp, L, dt, d_uniform, qa, qb);
+    } else if (broken) {
+      bond_span<D, Law, kEnergy, kRest, true, true>(sp, L, dt, d_uniform, qa, qb);
+    } else {
+      bond_span<D, Law, kEnergy, kRest, false, true>(sp, L, dt, d_uniform, qa, qb);
+    }
   }
 }
 
