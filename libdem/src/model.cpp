@@ -322,7 +322,7 @@ std::size_t Model<D>::memory_bytes() const {
   b += bonds.bytes() + contacts.bytes() + bond_us.bytes();
   b += bcp.capacity() * sizeof(BcParticle) + acc.capacity() * sizeof(BlockAcc);
   b += (cross_b.capacity() + cross_c.capacity()) * sizeof(double);
-  b += pend_slot.capacity() * 4;
+  b += bond_owner.capacity() + pend_slot.capacity() * 4;
   for (const PendingPool& P : pend)
     b += (P.ring.capacity() + P.buf.capacity()) * sizeof(double) + P.spare.capacity() * 4;
   b += events.capacity() * sizeof(BreakEvent);

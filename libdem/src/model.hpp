@@ -192,6 +192,7 @@ class Model final : public ModelBase, public ModelData<D> {
   using Data = ModelData<D>;
   using Data::acc;
   using Data::bcp;
+  using Data::bond_owner;
   using Data::bond_us;
   using Data::bonds;
   using Data::contacts;

@@ -350,6 +350,14 @@ void Model<D>::build_plan(int nt) {
     }
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
+  bond_owner.clear();
+  if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
+    bond_owner.resize(bonds.size());
+    for (std::size_t p = 0; p < N; ++p)
+      for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
+        bond_owner[k] = static_cast<std::uint8_t>(p % kBlock);
+  }
+  bond_owner.shrink_to_fit();
   pend_slot.assign(static_cast<std::size_t>(nb * (kBlock / kSlot)), -1);
   pend.assign(nt, PendingPool{std::vector<double>(D * Data::kRingStride, 0.0), {}, {}});
   cross_b.assign(plan.base_b[nt] * (D + 1), 0.0);

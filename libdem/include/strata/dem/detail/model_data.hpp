@@ -354,8 +354,8 @@ struct Scratch {
   std::vector<double> en;
   std::vector<std::uint8_t> slow;
   /// The owner of each bond of the block relative to the block's start (one byte: kBlock =
-  /// 256), expanded from the CSR offsets block by block: the bond pass's loops read owners
-  /// from it, and the model keeps no byte per bond for it.
+  /// 256), expanded from the CSR offsets block by block where the model keeps no
+  /// ModelData::bond_owner.
   std::vector<std::uint8_t> own;
   static_assert(kBlock <= 256, "own holds owner offsets in one byte");
   /// Zero shear histories the bond pass reads where the model keeps none (never written).
@@ -409,6 +409,13 @@ struct ModelData {
   /// (see PendingPool).
   std::vector<std::int32_t> pend_slot;
   std::vector<PendingPool> pend;  // per thread of the plan
+  /// The owner of each bond relative to the start of its block (one byte per bond: kBlock =
+  /// 256), kept where the model keeps no shear history: a lattice of normal springs, whose
+  /// bond pass is cheap enough that deriving owners every step would cost 5 % of it, and
+  /// whose memory is far below that of one with shear springs. A model with a shear history
+  /// keeps none (a byte per bond, 6 B per sphere): its bond pass expands the owners of each
+  /// block from the offsets (Scratch::own).
+  std::vector<std::uint8_t> bond_owner;
 
   static constexpr std::size_t kRing = static_cast<std::size_t>(kRingBlocks * kBlock);
   /// Distance between the ring's components: 16 doubles more than kRing, so that the same

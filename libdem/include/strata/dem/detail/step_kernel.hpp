@@ -316,8 +316,10 @@ class Engine final : public LawEngine<D> {
     const std::size_t mq = k1 - k0;
     Scratch<D>& S = m.scratch[t];
     S.fit(mq);
-    std::uint8_t* own = S.own.data();  // owner - p0
-    {
+    // owner - p0: kept per bond, or expanded from the offsets here (BondShear models)
+    const std::uint8_t* own = m.bond_owner.empty() ? S.own.data() : m.bond_owner.data() + k0;
+    if (m.bond_owner.empty()) {
+      std::uint8_t* ex = S.own.data();
       const std::uint32_t* off = m.bonds.off.data();
       // eight bytes per owner at once, each owner overwriting what the one before wrote past
       // its own bonds (a loop per owner becomes a call to memset per owner); an owner of
@@ -325,8 +327,8 @@ class Engine final : public LawEngine<D> {
       for (std::ptrdiff_t p = p0; p < pe; ++p) {
         const std::uint32_t a = off[p] - k0, b = off[p + 1] - k0;
         const std::uint64_t v = 0x0101010101010101ull * static_cast<std::uint64_t>(p - p0);
-        std::memcpy(own + a, &v, 8);
-        for (std::uint32_t k = a + 8; k < b; ++k) own[k] = static_cast<std::uint8_t>(p - p0);
+        std::memcpy(ex + a, &v, 8);
+        for (std::uint32_t k = a + 8; k < b; ++k) ex[k] = static_cast<std::uint8_t>(p - p0);
       }
     }
     const std::uint32_t up0 = static_cast<std::uint32_t>(p0);
