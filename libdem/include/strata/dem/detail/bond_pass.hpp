@@ -96,7 +96,7 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
   alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
   alignas(64) std::int64_t KEPT[kChunk];               // kBroken: how a bond's new Us is kept (keep, below)
-  alignas(64) std::int32_t QN[kNs][kChunk];            // a new Us in 32-bit steps (BondShear::rounded)
+  alignas(64) std::int32_t QN[kNs][kChunk];            // a new Us in 32-bit steps (BondShear::steps_of)
   alignas(64) double NU[kNs][kChunk];                  // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
     P[i] = up0 + own[qa + i];
@@ -174,11 +174,11 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
   // kernel asks for one); and a fast bond's Us in 32-bit steps (QN) where it is held so.
   // Integer lanes: with bools GCC branches.
   auto keep = [&](std::size_t i, double u2, std::int64_t ost, std::int64_t done) {
-    // intact and within the reach (BondShear::fits: an intact bond's new Us is the one of
+    // intact and within the reach (BondShear::within: an intact bond's new Us is the one of
     // square u2)
     std::int64_t in32 = 0, held = 1;  // without a shear history every bond is held
     if constexpr (kShear) {
-      in32 = u2 * (inv * inv) <= BondShear<kNs>::kReach2;
+      in32 = BondShear<kNs>::within(u2, inv);
       held = in32;
       if constexpr (kBroken) {
         in32 &= (ost & kKindMask) == kIntact;
@@ -186,8 +186,7 @@ void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, st
       }
       const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(qa + i), salt);
       for (int a = 0; a < kNs; ++a)
-        QN[a][i] = static_cast<std::int32_t>(
-            BondShear<kNs>::nearest((in32 != 0 ? NU[a][i] * inv : 0.0) + BondShear<kNs>::dither(bits, a)));
+        QN[a][i] = BondShear<kNs>::steps_of(in32 != 0 ? NU[a][i] * inv : 0.0, bits, a);
     }
     const std::int64_t fast = (J[i] < ee64) & done & held;
     SLOW[i] = !fast;

@@ -164,10 +164,11 @@ struct BondShear {
   static double dither(std::uint32_t h, int a) {
     return static_cast<double>((h >> (22 - 10 * a)) & 1023u) * 0x1p-10 + (0x1p-11 - 0.5);
   }
-  /// Component a of a bond in steps, stochastically rounded with h = dither_bits(k, salt)
-  /// (u within the reach).
-  std::int32_t rounded(double u, std::uint32_t h, int a) const {
-    return static_cast<std::int32_t>(nearest(u * inv + dither(h, a)));
+  /// Component a of a bond, x = u/unit (within the reach), in steps, stochastically
+  /// rounded with h = dither_bits(k, salt): the one rounding of both the bond pass and
+  /// store(), so that the two give the same bits.
+  static std::int32_t steps_of(double x, std::uint32_t h, int a) {
+    return static_cast<std::int32_t>(nearest(x + dither(h, a)));
   }
   /// The unit for bonds that hold up to `reach` (m) while intact.
   static double unit_for(double reach) {
@@ -175,14 +176,15 @@ struct BondShear {
     const double m = std::frexp(2 * reach / kReach, &e);  // m in [0.5, 1)
     return std::ldexp(1.0, m == 0.5 ? e - 1 : e);
   }
-  /// Whether components u lie within the reach: |u|/unit <= kReach, from |u|² summed as
-  /// the bond pass sums it (so both paths agree on every bond; inv² is exact).
-  static bool fits(const double* u, double inv) {
+  /// Whether a Us of square u2 lies within the reach, |Us|/unit <= kReach (inv² is exact):
+  /// the one test of both the bond pass and fits().
+  static bool within(double u2, double inv) { return u2 * (inv * inv) <= kReach2; }
+  /// Whether components u lie within the reach, from |u|² summed as the bond pass sums it.
+  bool fits(const double* u) const {
     double u2 = 0;
     for (int a = 0; a < NS; ++a) u2 += u[a] * u[a];
-    return u2 * (inv * inv) <= kReach2;
+    return within(u2, inv);
   }
-  bool fits(const double* u) const { return fits(u, inv); }
   /// Bond k's components into u.
   void load(std::size_t k, double* u) const {
     const std::int32_t* h = q.data() + k * NS;
@@ -200,7 +202,7 @@ struct BondShear {
     std::int32_t* h = q.data() + k * NS;
     if (intact && fits(u)) {
       const std::uint32_t bits = dither_bits(static_cast<std::uint32_t>(k), salt);
-      for (int a = 0; a < NS; ++a) h[a] = rounded(u[a], bits, a);
+      for (int a = 0; a < NS; ++a) h[a] = steps_of(u[a] * inv, bits, a);
     } else if (is_wide(h[0])) {
       double* w = wide.data() + index_of(h[0]) * NS;
       for (int a = 0; a < NS; ++a) w[a] = u[a];
@@ -213,11 +215,7 @@ struct BondShear {
   /// Gives the bonds that became wide in the step their entries (serial, after the step).
   void merge() {
     for (auto& list : fresh) {
-      for (const Fresh& f : list) {
-        intact_wide |= f.intact;
-        q[std::size_t{f.k} * NS] = code_of(wide.size() / NS);
-        wide.insert(wide.end(), f.u, f.u + NS);
-      }
+      for (const Fresh& f : list) add_wide(f.k, f.intact, f.u);
       list.clear();
     }
   }
@@ -252,13 +250,19 @@ struct BondShear {
       if (intact && fits(uk)) {
         for (int a = 0; a < NS; ++a) q[k * NS + a] = static_cast<std::int32_t>(nearest(uk[a] * inv));
       } else {
-        intact_wide |= intact;
-        q[k * NS] = code_of(wide.size() / NS);
-        wide.insert(wide.end(), uk, uk + NS);
+        add_wide(k, intact, uk);
       }
     }
   }
   std::size_t bytes() const { return q.capacity() * 4 + wide.capacity() * 8; }
+
+ private:
+  /// Bond k (intact or not) gets a new wide entry holding u.
+  void add_wide(std::size_t k, bool intact, const double* u) {
+    intact_wide |= intact;
+    q[k * NS] = code_of(wide.size() / NS);
+    wide.insert(wide.end(), u, u + NS);
+  }
 };
 
 /// Boundary condition of one particle (only particles with a condition have one).
@@ -450,17 +454,6 @@ struct ModelData {
     PendingPool& P = pend[t];
     const std::size_t at = static_cast<std::size_t>(blk % kRingBlocks) * kBlock;
     const std::ptrdiff_t nb = blk + kRingBlocks;
-    bool any = false;  // a slot to bring (else, as mostly, the block's entries start at zero)
-    if (nb * kBlock < e)
-      for (std::ptrdiff_t g = 0; g < kBlock / kSlot; ++g)
-        any |= pend_slot[static_cast<std::size_t>(nb * (kBlock / kSlot) + g)] >= 0;
-    if (!any) {
-      for (int a = 0; a < D; ++a) {
-        double* r = P.ring.data() + a * kRingStride + at;
-        std::fill(r, r + kBlock, 0.0);
-      }
-      return;
-    }
     for (std::ptrdiff_t g = 0; g < kBlock / kSlot; ++g) {
       const std::size_t grp = static_cast<std::size_t>(nb * (kBlock / kSlot) + g);
       const std::int32_t s = nb * kBlock + g * kSlot < e ? pend_slot[grp] : -1;
