@@ -10,6 +10,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <thread>
+#include <vector>
 
 namespace {
 
@@ -49,10 +51,20 @@ void BM_Triad(benchmark::State& state) {
 
 }  // namespace
 
-BENCHMARK(BM_Triad)
-    ->ArgsProduct({{2 << 20, 256 << 20}, {1, 2}})
-    ->ArgNames({"bytes", "threads"})
-    ->UseRealTime()
-    ->Unit(benchmark::kMillisecond);
-
-BENCHMARK_MAIN();
+// 1 and 2 threads, then doubling up to every hardware thread (which is run too).
+int main(int argc, char** argv) {
+  std::vector<std::int64_t> threads{1, 2};
+  const auto hw = static_cast<std::int64_t>(std::thread::hardware_concurrency());
+  for (std::int64_t t = 4; t < hw; t *= 2) threads.push_back(t);
+  if (hw > 2) threads.push_back(hw);
+  benchmark::RegisterBenchmark("BM_Triad", BM_Triad)
+      ->ArgsProduct({{2 << 20, 256 << 20}, threads})
+      ->ArgNames({"bytes", "threads"})
+      ->UseRealTime()
+      ->Unit(benchmark::kMillisecond);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -23,7 +23,8 @@ struct BenchDemOptions {
 /// (peak RSS of the process minus the RSS before the model was built, per particle),
 /// model_bytes_per_particle (Simulation::memory_bytes()/N), streamed_bytes_per_particle_step
 /// (Simulation::streamed_bytes_per_step()/N) and the rate it implies (streamed_gb_per_s), dt,
-/// dt_over_dt_crit, broken_bonds, contacts, setup_seconds.
+/// dt_over_dt_crit, broken_bonds, contacts, setup_seconds and state_hash (Simulation::state_hash()
+/// after the steps: the same for every thread count).
 std::string bench_dem_json(const BenchDemOptions& options);
 
 }  // namespace strata::app

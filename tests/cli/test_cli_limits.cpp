@@ -17,3 +17,21 @@ TEST(CliLimits, ThreadCountsBeyondTheLimitAreRefused) {
   }
   EXPECT_EQ(strata("bench dem --threads 100000").status, 2);
 }
+
+// The benchmark's block steps to the same state whatever the thread count: its state hash is
+// what a scaling curve over thread counts compares to show the runs did the same work.
+TEST(CliLimits, BenchDemReportsTheSameStateHashForAnyThreadCount) {
+  for (const char* dim : {"2", "3"}) {
+    std::string hash;
+    for (const char* t : {"1", "2", "3"}) {
+      const auto r =
+          strata(std::string("bench dem --dim ") + dim + " --particles 20000 --steps 30 --threads " + t);
+      ASSERT_EQ(r.status, 0) << r.output;
+      const auto at = r.output.find("\"state_hash\": \"");
+      ASSERT_NE(at, std::string::npos) << r.output;
+      const std::string h = r.output.substr(at + 15, 16);
+      if (hash.empty()) hash = h;
+      EXPECT_EQ(h, hash) << "--dim " << dim << " --threads " << t;
+    }
+  }
+}
