@@ -64,8 +64,10 @@ struct BondSpan {
 /// broken-bond law (a square root and a division per bond) and the wide entries are left
 /// out. Without kShear the model keeps no shear history (every law's Ks is zero): Us is
 /// zero and nothing is rounded or stored.
+/// Everything it calls is inlined (flatten): GCC 12 left the law's batch form of the full
+/// law (kBroken) as a call per bond, which kept the loop over the bonds from vectorising.
 template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
-void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
+[[gnu::flatten]] void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
                std::size_t qb) {
   using namespace pair_state;
   constexpr int kNs = kNsOf<D>;
