@@ -68,7 +68,7 @@ struct BondSpan {
 /// law (kBroken) as a call per bond, which kept the loop over the bonds from vectorising.
 template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
 [[gnu::flatten]] void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
-               std::size_t qb) {
+                                std::size_t qb) {
   using namespace pair_state;
   constexpr int kNs = kNsOf<D>;
   const double* __restrict X0 = sp.X0, * __restrict X1 = sp.X1, * __restrict X2 = sp.X2;
