@@ -33,7 +33,7 @@ namespace {
 // ---- options -------------------------------------------------------------------------------
 
 /// Options with the case defaults filled in.
-struct Plan {
+struct ChainPlan {
   ReportOptions opt;
   double dt = 0;        ///< dt_DEM (s)
   double duration = 0;  ///< simulated time (s)
@@ -41,14 +41,14 @@ struct Plan {
   bool meta = false;  ///< the metamaterial case (else chain6)
 };
 
-Plan resolve(const ReportOptions& opt) {
+ChainPlan resolve(const ReportOptions& opt) {
   STRATA_CHECK(opt.case_name == "chain6" || opt.case_name == "metamaterial", Input,
                "report: unknown case '{}' (chain6 or metamaterial)", opt.case_name);
   STRATA_CHECK(!opt.etas.empty(), Input, "report: no eta values");
   for (int e : opt.etas) STRATA_CHECK(e >= 1, Input, "report: eta = {} must be an integer >= 1", e);
   STRATA_CHECK(opt.modes == "serial" || opt.modes == "parallel" || opt.modes == "both", Input,
                "report: --modes {} (serial, parallel or both)", opt.modes);
-  Plan p;
+  ChainPlan p;
   p.opt = opt;
   p.meta = opt.case_name == "metamaterial";
   p.dt = opt.dt_dem > 0 ? opt.dt_dem : p.meta ? 4e-6 : 1e-4;
@@ -60,14 +60,14 @@ Plan resolve(const ReportOptions& opt) {
   return p;
 }
 
-couple::ChainModel model_of(const Plan& p) {
+couple::ChainModel model_of(const ChainPlan& p) {
   return p.meta ? couple::metamaterial_model({p.opt.pulse_amplitude, p.opt.pulse_duration})
                 : couple::chain6_model();
 }
-std::vector<std::int64_t> fem_nodes(const Plan& p) {
+std::vector<std::int64_t> fem_nodes(const ChainPlan& p) {
   return p.meta ? couple::metamaterial_fem_nodes() : std::vector<std::int64_t>{0, 1, 2, 3};
 }
-std::vector<std::int64_t> dem_nodes(const Plan& p) {
+std::vector<std::int64_t> dem_nodes(const ChainPlan& p) {
   return p.meta ? couple::metamaterial_dem_nodes() : std::vector<std::int64_t>{2, 3, 4, 5};
 }
 
@@ -83,7 +83,7 @@ struct Stability {
   std::vector<int> refused;               ///< those η
 };
 
-Stability stability(const Plan& p) {
+Stability stability(const ChainPlan& p) {
   Stability s;
   if (p.meta) {
     s.meta = couple::metamaterial_stability();
@@ -123,7 +123,7 @@ Stability stability(const Plan& p) {
   return s;
 }
 
-std::string stability_text(const Plan& p, const Stability& s) {
+std::string chain_stability_text(const ChainPlan& p, const Stability& s) {
   std::string out;
   if (s.meta) out += s.meta->text(p.dt) + "\n";
   out += fmt::format("coupled steps: DEM velocity Verlet at dt_DEM = {:.4g} s, FEM {} at eta*dt_DEM\n", p.dt,
@@ -153,7 +153,7 @@ std::string stability_text(const Plan& p, const Stability& s) {
   return out + "\n";
 }
 
-json stability_json(const Plan& p, const Stability& s) {
+json chain_stability_json(const ChainPlan& p, const Stability& s) {
   json j = {{"case", p.opt.case_name},  {"dt_dem_s", p.dt},
             {"duration_s", p.duration}, {"fem_scheme", fem::to_string(p.scheme)},
             {"modes", p.opt.modes},     {"ok", s.dt_problem.empty() && s.eta_problems.empty()}};
@@ -182,7 +182,7 @@ struct Refuse {
 
 /// Throws Input (exit 2) when dt_DEM is unstable, or when an η point would be refused and the
 /// plan asks for that (chain6 always: its sweep cannot show refused points).
-void refuse_unstable(const Plan& p, const Stability& s, const Refuse& refuse) {
+void refuse_unstable(const ChainPlan& p, const Stability& s, const Refuse& refuse) {
   if (!s.dt_problem.empty()) refuse.at(&scene::CoupledTable::dt_dem, s.dt_problem);
   if (s.eta_problems.empty() || p.opt.run_unstable || !(p.opt.refuse_unstable_eta || !p.meta)) return;
   std::string why;
@@ -195,7 +195,7 @@ void refuse_unstable(const Plan& p, const Stability& s, const Refuse& refuse) {
 
 // ---- the sweep and its files ---------------------------------------------------------------
 
-std::vector<SweepRow> sweep(const Plan& p) {
+std::vector<SweepRow> sweep(const ChainPlan& p) {
   SweepOptions so;
   so.etas = p.opt.etas;
   so.modes.clear();
@@ -211,7 +211,7 @@ std::vector<SweepRow> sweep(const Plan& p) {
   return p.meta ? sweep_metamaterial(so) : sweep_chain6(so);
 }
 
-std::string header(const Plan& p) {
+std::string header(const ChainPlan& p) {
   std::string h = p.opt.title.empty() ? "" : p.opt.title + "\n\n";
   if (p.meta)
     return h +
@@ -233,7 +233,7 @@ double mode_code(const std::string& m) { return m == "serial" ? 0 : m == "parall
 double status_code(const std::string& s) { return s.empty() ? 0 : s == "refused" ? 1 : 2; }
 
 /// Writes <case>_sweep.{csv,md,png} and summary.json into `dir`; prints the Markdown table.
-void write_files(const Plan& p, const std::vector<SweepRow>& rows, const fs::path& dir, double wall_s) {
+void write_files(const ChainPlan& p, const std::vector<SweepRow>& rows, const fs::path& dir, double wall_s) {
   const ReportOptions& opt = p.opt;
   const std::string stem = opt.case_name + "_sweep";
   {
@@ -300,12 +300,12 @@ void write_files(const Plan& p, const std::vector<SweepRow>& rows, const fs::pat
 }
 
 /// The one path behind `strata report` and `strata check|run SCENE`.
-int run_plan(const Plan& p, const Refuse& refuse, bool check_only, bool json_out = false) {
+int run_plan(const ChainPlan& p, const Refuse& refuse, bool check_only, bool json_out = false) {
   const Stability s = stability(p);
   if (json_out)
-    std::printf("%s\n", stability_json(p, s).dump(2).c_str());
+    std::printf("%s\n", chain_stability_json(p, s).dump(2).c_str());
   else
-    std::printf("%s", stability_text(p, s).c_str());
+    std::printf("%s", chain_stability_text(p, s).c_str());
   std::fflush(stdout);
   refuse_unstable(p, s, refuse);
   if (check_only) return 0;

@@ -18,6 +18,8 @@
 #include <functional>
 #include <limits>
 
+#include "case_helpers.hpp"
+
 namespace strata::cases {
 
 namespace fs = std::filesystem;
@@ -66,12 +68,6 @@ std::string chain_scene_text(const std::string& title, const ChainModel& model,
 }
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
 
 void errors_against(SweepRow& r, const std::vector<double>& t, const std::vector<double>& u,
                     const std::function<double(double)>& ref, bool keep) {
@@ -128,7 +124,7 @@ SweepRow coupled_point(const std::string& name, const ChainModel& model, const S
   double best = INFINITY;
   std::vector<double> t, u;
   for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
-    const auto t0 = Clock::now();
+    const auto t0 = detail::Clock::now();
     const scene::Scene sc = scene::parse(text, dir / "chain.generated.toml", {});
     scene::Run run(sc, {dir, /*force=*/false, {}});
     scene::BuiltModel& m = run.model();
@@ -137,7 +133,7 @@ SweepRow coupled_point(const std::string& name, const ChainModel& model, const S
       m.coupler().probe_fem(p.dof, "probe");
     else
       m.coupler().probe_dem(p.dof, "probe");
-    const double setup = seconds_since(t0);
+    const double setup = detail::seconds_since(t0);
     scene::RunObserver quiet;
     try {
       const scene::RunResult res = run.execute(quiet);
@@ -178,7 +174,7 @@ SweepRow monolithic_point(const std::string& name, const ChainModel& model, std:
   for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
     t.clear();
     u.clear();
-    const auto t0 = Clock::now();
+    const auto t0 = detail::Clock::now();
     fem::Solver s = couple::monolithic_solver(model, fem::SolverSettings{.scheme = scheme, .dt = dt});
     s.initialise();
     t.push_back(0);
@@ -188,7 +184,7 @@ SweepRow monolithic_point(const std::string& name, const ChainModel& model, std:
       t.push_back(s.time());
       u.push_back(s.u()[probe_node]);
     }
-    best = std::min(best, seconds_since(t0));
+    best = std::min(best, detail::seconds_since(t0));
   }
   r.wall_s = best;
   errors_against(r, t, u, ref, o.keep_samples);

@@ -15,6 +15,8 @@
 #include <limits>
 #include <map>
 
+#include "case_helpers.hpp"
+
 namespace strata::cases {
 
 namespace fs = std::filesystem;
@@ -86,8 +88,6 @@ std::vector<std::vector<double>> columns_of(const io::CsvTable& t, const std::ve
   for (const auto& n : names) out.push_back(t.column(n));
   return out;
 }
-
-std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 
 /// Runs `sc` `repeats` times into `dir`; the fastest run's numbers go into `row`.
 void timed_runs(const scene::Scene& sc, const fs::path& dir, const CompareOptions& opt, CompareRow& row,
@@ -290,7 +290,7 @@ CompareResult compare_runs(const CompareOptions& opt, CompareObserver& observer)
       } else {
         throw;
       }
-      row.note = first_line(e.what());
+      row.note = detail::first_line(e.what());
     }
     if (row.status == "completed") {
       io::CsvTable t = io::read_csv(run_dir / "probes.csv");

@@ -22,6 +22,8 @@
 #include <limits>
 #include <map>
 
+#include "case_helpers.hpp"
+
 namespace strata::cases {
 
 namespace fs = std::filesystem;
@@ -96,12 +98,6 @@ class RunStop final : public scene::RunObserver {
  private:
   StudyObserver& o_;
 };
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 
 std::string file_stem(const std::string& name) {
   std::string s;
@@ -338,9 +334,9 @@ int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserve
     } catch (const Error& e) {
       if (e.kind() != ErrorKind::Numerical && e.kind() != ErrorKind::Input) throw;
       p.status = fmt::format("{}: {}", e.kind() == ErrorKind::Numerical ? "blew up" : "refused",
-                             first_line(e.what()));
+                             detail::first_line(e.what()));
     }
-    p.wall_s = seconds_since(r0);
+    p.wall_s = detail::seconds_since(r0);
     points.push_back(std::move(p));
     observer.done(k, points.back());
     if (!stopped) stopped = observer.stop_requested();
@@ -348,7 +344,8 @@ int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserve
   const std::string status =
       stopped ? fmt::format("interrupted after {} of {} runs", points.size(), plan.overrides.size())
               : "completed";
-  const std::string md = write_results(st, points, stage.path(), st.output.render, seconds_since(t0), status);
+  const std::string md =
+      write_results(st, points, stage.path(), st.output.render, detail::seconds_since(t0), status);
   std::fwrite(md.data(), 1, md.size(), stdout);
   const auto written = stage.commit(out);
   std::printf("wrote:\n");

@@ -5,6 +5,7 @@
 // the incident, reflected and transmitted pulses.
 #include <strata/cases/wave_report.hpp>
 
+#include "case_helpers.hpp"
 #include "wave_internal.hpp"
 
 #include <nlohmann/json.hpp>
@@ -55,7 +56,7 @@ constexpr double kKn = 6.587e10, kKs = 2.371e10, kRho = 2.65e3;
 
 }  // namespace
 
-Plan wave_detail::plan_of(const WaveModel& m, const WaveOptions& opt, double lambda_d) {
+PulsePlan wave_detail::plan_of(const WaveModel& m, const WaveOptions& opt, double lambda_d) {
   const double lambda = lambda_d * m.d;
   double limit = 4.0 / 3.0 *
                  std::min({m.fem_gauge_depth, m.dem_length, m.load_depth - m.fem_gauge_depth,
@@ -72,7 +73,7 @@ Plan wave_detail::plan_of(const WaveModel& m, const WaveOptions& opt, double lam
       "reflected and transmitted pulses separate in time only up to {:.4g} m ({:.1f} diameters); use "
       "a longer geometry or a shorter pulse",
       lambda_d, lambda, limit, limit / m.d);
-  Plan p;
+  PulsePlan p;
   p.T = lambda / m.c;
   p.t_inc = (m.load_depth - m.fem_gauge_depth) / m.c;
   p.t_ref = (m.load_depth + m.fem_gauge_depth) / m.c;
@@ -146,7 +147,7 @@ std::string group_text(const std::string& name, const std::string& region,
 // What one run of the sweep is: the pulse (none: a model for its stability numbers only), η,
 // the coupling, the FEM integrator, the DEM steps and the frames of its series.
 struct WavePoint {
-  const Plan* pulse = nullptr;
+  const PulsePlan* pulse = nullptr;
   int eta = 1;
   couple::Execution mode = couple::Execution::Serial;
   std::string scheme = "central-difference";
@@ -302,7 +303,7 @@ FramePair crop(const FramePair& in, int axis, double lo, double hi) {
 // it), cropped around the overlap(s), FEM mesh and particles coloured by the velocity along
 // the wave on one scale. Drawn after the FEM step of that time (serial coupling: the
 // particles are then one system step behind).
-void watch_crossing(const WaveModel& m, const Plan& p, const WaveRun& r, scene::BuiltModel& model,
+void watch_crossing(const WaveModel& m, const PulsePlan& p, const WaveRun& r, scene::BuiltModel& model,
                     std::int64_t steps, WaveSeries& ws) {
   const auto& ov = m.overlap;
   const double D = m.dem_length;
@@ -383,9 +384,9 @@ WaveModel build_wave_model(const WaveOptions& opt) {
   oo.d = opt.d;
   oo.far_size = opt.fem_far_size * opt.d;
   oo.growth = opt.fem_growth;
-  const auto t0 = Clock::now();
+  const auto t0 = detail::Clock::now();
   m.overlap = preprocess::build_overlap(m.geometry, opt.particle_region, fem_regions, oo);
-  m.build_s = seconds_since(t0);
+  m.build_s = detail::seconds_since(t0);
   STRATA_CHECK(m.overlap.dim == 2, Input, "wave: the geometry must be 2D");
   m.d = opt.d;
   m.kn = kKn;
@@ -435,7 +436,7 @@ WaveModel build_wave_model(const WaveOptions& opt) {
 WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, int eta, couple::Execution mode,
                  const std::string& scheme, WaveSeries* series) {
   STRATA_CHECK(eta >= 1, Input, "wave: eta = {} must be an integer >= 1", eta);
-  const Plan p = plan_of(m, opt, lambda_d);
+  const PulsePlan p = plan_of(m, opt, lambda_d);
   const auto& ov = m.overlap;
   const int ax = ov.axis;
   const double dir = -ov.fem_side;  // propagation direction along `ax`: from the FEM into the particles
@@ -466,7 +467,7 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
     explicit ScopedThreads(int n) { par::set_threads(n); }
     ~ScopedThreads() { par::set_threads(before); }
   } scoped_threads(opt.threads);
-  const auto t0 = Clock::now();
+  const auto t0 = detail::Clock::now();
   // ---- the model, built and stepped through the scene library's one run path ----
   WavePoint w;
   w.pulse = &p;
@@ -565,7 +566,7 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   model.coupler().observe_fem(fem_gauges);
   model.coupler().observe_dem(dem_gauge);
   if (series && series->pictures) watch_crossing(m, p, r, model, steps, *series);
-  r.setup_s = seconds_since(t0);
+  r.setup_s = detail::seconds_since(t0);
   r.fem_steps = steps;
   r.dem_steps = steps * eta;
   try {

@@ -3,6 +3,7 @@
 // report, and the [coupled] scenes of case = "wave". One run is wave_model.cpp's run_wave.
 #include <strata/cases/wave_report.hpp>
 
+#include "case_helpers.hpp"
 #include "wave_internal.hpp"
 
 #include <nlohmann/json.hpp>
@@ -191,7 +192,7 @@ void write_plots(const WaveModel& m, const WaveOptions& opt, const std::vector<W
   plot_png(gp);
 }
 
-std::string stability_text(const WaveModel& m, const WaveOptions& opt, const WaveStability& s) {
+std::string wave_stability_text(const WaveModel& m, const WaveOptions& opt, const WaveStability& s) {
   std::string out = fmt::format(
       "coupled steps: DEM leapfrog at dt_DEM = {:.4g} s ({:g} x the hex lattice's critical step {:.4g} s), "
       "FEM at eta*dt_DEM ({})\n",
@@ -227,7 +228,7 @@ std::string stability_text(const WaveModel& m, const WaveOptions& opt, const Wav
   return out + "\n";
 }
 
-json stability_json(const WaveModel& m, const WaveOptions& opt, const WaveStability& s) {
+json wave_stability_json(const WaveModel& m, const WaveOptions& opt, const WaveStability& s) {
   json j = {{"case", "wave"},
             {"title", opt.title},
             {"geometry", m.geometry.string()},
@@ -340,11 +341,11 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
                   : std::string());
   const WaveStability stab = wave_stability(m, opt);
   if (json_out) {
-    std::printf("%s\n", stability_json(m, opt, stab).dump(2).c_str());
+    std::printf("%s\n", wave_stability_json(m, opt, stab).dump(2).c_str());
   } else {
     if (!opt.title.empty()) std::printf("%s\n\n", opt.title.c_str());
     std::fputs(header.c_str(), stdout);
-    std::fputs(stability_text(m, opt, stab).c_str(), stdout);
+    std::fputs(wave_stability_text(m, opt, stab).c_str(), stdout);
   }
   std::fflush(stdout);
   if (opt.refuse_unstable_eta && !stab.problems.empty()) {
@@ -366,7 +367,7 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
 
   // Everything is validated: run the whole sweep into a staging folder, then move its files
   // into the output folder all at once.
-  const auto t0 = Clock::now();
+  const auto t0 = detail::Clock::now();
   scene::Staging stage(opt.output);
   const fs::path& dir = stage.path();
   std::vector<WaveRun> rows;
@@ -464,7 +465,7 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
                   {"wavelengths_d", opt.wavelengths},
                   {"etas", opt.etas},
                   {"modes", opt.modes},
-                  {"wall_seconds", seconds_since(t0)}};
+                  {"wall_seconds", detail::seconds_since(t0)}};
   if (!opt.scene.empty()) summary["scene"] = opt.scene.string();
   json jr = json::array();
   for (const auto& r : rows)

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 
 namespace strata::preprocess {
 
@@ -18,13 +19,12 @@ void Lattice::release() {
 }
 
 namespace {
-constexpr double kSqrt3 = 1.7320508075688772;
 
 /// Appends the sites of one close-packed layer at height z with in-plane shift (sx, sy)
 /// (taken modulo the lattice), inside [lo, hi] shrunk by r.
 void hex_layer(Lattice& l, double d, double z, double sx, double sy, const double lo[2], const double hi[2],
                int layer, double eps) {
-  const double r = 0.5 * d, h = 0.5 * kSqrt3 * d;
+  const double r = 0.5 * d, h = 0.5 * std::numbers::sqrt3 * d;
   sy = std::fmod(sy, 2 * h);
   const double ylo = lo[1] + r, yhi = hi[1] - r, xlo = lo[0] + r, xhi = hi[0] - r;
   for (int k = 0;; ++k) {
@@ -50,7 +50,7 @@ Lattice hex2d_box(double x0, double y0, double width, double height, double d) {
   l.dim = 2;
   l.radius = 0.5 * d;
   const double lo[2] = {x0, y0}, hi[2] = {x0 + width, y0 + height};
-  const double n_est = width * height / (0.5 * kSqrt3 * d * d) * 1.05 + 16;
+  const double n_est = width * height / (0.5 * std::numbers::sqrt3 * d * d) * 1.05 + 16;
   l.x.reserve(static_cast<std::size_t>(n_est));
   l.row.reserve(static_cast<std::size_t>(n_est));
   l.layer.reserve(static_cast<std::size_t>(n_est));
@@ -64,7 +64,7 @@ Lattice hex2d_rows(int rows, int columns, double d, double x0, double y0, bool s
   Lattice l;
   l.dim = 2;
   l.radius = 0.5 * d;
-  const double h = 0.5 * kSqrt3 * d;
+  const double h = 0.5 * std::numbers::sqrt3 * d;
   for (int k = 0; k < rows; ++k) {
     const int nc = (k % 2 && shorter_odd_rows) ? columns - 1 : columns;
     for (int c = 0; c < nc; ++c) {
@@ -90,7 +90,7 @@ Lattice close_packed_box(Packing packing, std::array<double, 3> lo, std::array<d
   l.row.reserve(static_cast<std::size_t>(n_est));
   l.layer.reserve(static_cast<std::size_t>(n_est));
   // stacking positions A (0, 0), B (d/2, d/(2√3)), C (d, d/√3) in the layer plane
-  const double shift[3][2] = {{0, 0}, {0.5 * d, d / (2 * kSqrt3)}, {d, d / kSqrt3}};
+  const double shift[3][2] = {{0, 0}, {0.5 * d, d / (2 * std::numbers::sqrt3)}, {d, d / std::numbers::sqrt3}};
   const double eps = 1e-9 * d;
   for (int k = 0;; ++k) {
     const double z = lo[2] + 0.5 * d + k * c;
@@ -102,7 +102,7 @@ Lattice close_packed_box(Packing packing, std::array<double, 3> lo, std::array<d
 }
 
 double box_side_for(int dim, std::int64_t n, double d) {
-  const double cell = dim == 2 ? 0.5 * kSqrt3 * d * d : d * d * d / std::sqrt(2.0);
+  const double cell = dim == 2 ? 0.5 * std::numbers::sqrt3 * d * d : d * d * d / std::sqrt(2.0);
   return dim == 2 ? std::sqrt(static_cast<double>(n) * cell) : std::cbrt(static_cast<double>(n) * cell);
 }
 

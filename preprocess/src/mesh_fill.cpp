@@ -9,13 +9,13 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "cgal_queries.hpp"
 
 namespace strata::preprocess {
 
 namespace {
-constexpr double kSqrt3 = 1.7320508075688772;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 std::int64_t pos_mod(std::int64_t a, std::int64_t m) { return ((a % m) + m) % m; }
@@ -24,7 +24,7 @@ std::int64_t pos_mod(std::int64_t a, std::int64_t m) { return ((a % m) + m) % m;
 // ---- LatticeFrame ----------------------------------------------------------------------------
 
 LatticeFrame::LatticeFrame(LatticeKind kind, double d, double orientation_deg, Vec3 origin)
-    : kind_(kind), d_(d), h_(0.5 * kSqrt3 * d), c_(d * std::sqrt(2.0 / 3.0)), origin_(origin) {
+    : kind_(kind), d_(d), h_(0.5 * std::numbers::sqrt3 * d), c_(d * std::sqrt(2.0 / 3.0)), origin_(origin) {
   STRATA_CHECK(d > 0 && std::isfinite(d), Input, "lattice: particle diameter {} must be > 0", d);
   const double th = orientation_deg * M_PI / 180.0;
   cos_ = std::cos(th);
@@ -35,7 +35,7 @@ LatticeFrame::LatticeFrame(LatticeKind kind, double d, double orientation_deg, V
 double LatticeFrame::cell_measure() const { return dim() == 2 ? h_ * d_ : d_ * d_ * d_ / std::sqrt(2.0); }
 
 double LatticeFrame::packing_fraction() const {
-  return dim() == 2 ? M_PI / (2 * kSqrt3) : M_PI / (3 * std::sqrt(2.0));
+  return dim() == 2 ? M_PI / (2 * std::numbers::sqrt3) : M_PI / (3 * std::sqrt(2.0));
 }
 
 void LatticeFrame::layer_shift(std::int64_t k, double& sx, double& sy) const {
@@ -43,7 +43,7 @@ void LatticeFrame::layer_shift(std::int64_t k, double& sx, double& sy) const {
   if (kind_ == LatticeKind::HCP) s = k & 1;
   if (kind_ == LatticeKind::FCC) s = pos_mod(k, 3);
   sx = static_cast<double>(s) * 0.5 * d_;
-  sy = static_cast<double>(s) * d_ / (2 * kSqrt3);
+  sy = static_cast<double>(s) * d_ / (2 * std::numbers::sqrt3);
 }
 
 Vec3 LatticeFrame::site(std::int64_t i, std::int64_t j, std::int64_t k) const {

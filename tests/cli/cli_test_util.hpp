@@ -34,7 +34,9 @@ inline Result strata_command(const std::string& command) {
 }
 
 /// Runs `strata ARGS` (the binary under test) and returns its exit status and output.
-inline Result strata(const std::string& args) { return strata_command(std::string(STRATA_EXE) + " " + args); }
+inline Result run_strata(const std::string& args) {
+  return strata_command(std::string(STRATA_EXE) + " " + args);
+}
 
 /// `strata ARGS` stopped after `seconds` (exit status 124, or 137 when it ignores SIGTERM).
 inline Result strata_within(int seconds, const std::string& args) {

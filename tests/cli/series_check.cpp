@@ -1,5 +1,4 @@
-// Reads a written series back with strata::io. In its own file: test_cli.cpp's `strata()`
-// helper (run the command) would clash with the namespace of the strata headers.
+// Reads a written series back with strata::io (see series_check.hpp).
 #include <strata/config.hpp>
 #include <strata/io/series.hpp>
 #include <strata/io/vtk.hpp>

@@ -1,6 +1,6 @@
 #pragma once
-// Read-back helpers for test_cli, in their own file: test_cli.cpp's `strata()` helper (run
-// the command) would clash with the namespace of the strata headers.
+// Read-back helpers for test_cli: what the `strata` command wrote, read with strata::io (the
+// cli tests run the command through cli_test::run_strata()).
 #include <filesystem>
 #include <string>
 #include <vector>

@@ -43,21 +43,21 @@ steps = 400
 }  // namespace
 
 TEST(Cli, VersionAndHelp) {
-  auto v = strata("--version");
+  auto v = run_strata("--version");
   EXPECT_EQ(v.status, 0);
   EXPECT_NE(v.output.find("strata 0."), std::string::npos);
   EXPECT_NE(v.output.find("STRATA_WITH_GMSH"), std::string::npos);
   for (const char* sub : {"run", "check", "mesh", "bench dem", "render", "reference"}) {
-    auto h = strata(std::string(sub) + " --help");
+    auto h = run_strata(std::string(sub) + " --help");
     EXPECT_EQ(h.status, 0) << sub;
     EXPECT_NE(h.output.find("Example"), std::string::npos) << sub << " --help shows no example";
   }
 }
 
 TEST(Cli, BadUsageExitsTwo) {
-  EXPECT_EQ(strata("").status, 2);
-  EXPECT_EQ(strata("frobnicate").status, 2);
-  EXPECT_EQ(strata("run /no/such/scene.toml").status, 2);
+  EXPECT_EQ(run_strata("").status, 2);
+  EXPECT_EQ(run_strata("frobnicate").status, 2);
+  EXPECT_EQ(run_strata("run /no/such/scene.toml").status, 2);
 }
 
 // The acceptance test of the scene validation: four different mistakes, four precise
@@ -82,7 +82,7 @@ TEST(Cli, FourBadScenesGiveFourPreciseMessages) {
   std::vector<std::string> messages;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const fs::path f = write(d, "bad" + std::to_string(k) + ".toml", cases[k].first);
-    const auto r = strata("check " + f.string());
+    const auto r = run_strata("check " + f.string());
     EXPECT_EQ(r.status, 2) << r.output;
     // file:line:col: at the start of the message
     const std::string prefix = f.string() + ":";
@@ -104,7 +104,7 @@ TEST(Cli, FourBadScenesGiveFourPreciseMessages) {
 
 TEST(Cli, CheckPrintsDerivedNumbers) {
   const fs::path d = temp_dir("check");
-  const auto r = strata("check " + write(d, "ok.toml", small_scene()).string());
+  const auto r = run_strata("check " + write(d, "ok.toml", small_scene()).string());
   EXPECT_EQ(r.status, 0) << r.output;
   for (const char* what : {"particles", "bonds", "memory", "dt_crit", "dt/dt_crit"})
     EXPECT_NE(r.output.find(what), std::string::npos) << what << "\n" << r.output;
@@ -120,7 +120,7 @@ TEST(Cli, CheckPrintsDerivedNumbers) {
   const std::string three_d = "[scene]\ndimension = 3\n" + kMaterial +
                               "[[region]]\nname = \"block\"\nmaterial = \"rock\"\ndiameter = 0.001\n"
                               "size = [0.006, 0.006, 0.006]\n[solver]\nsteps = 10\n";
-  const auto r3 = strata("check " + write(d, "ok3.toml", three_d).string());
+  const auto r3 = run_strata("check " + write(d, "ok3.toml", three_d).string());
   EXPECT_EQ(r3.status, 0) << r3.output;
   EXPECT_NE(r3.output.find(
                 "along z E = 1.418e+14 Pa, nu = 0.1194; isotropic average E = 1.316e+14 Pa, nu = 0.1468"),
@@ -133,7 +133,7 @@ TEST(Cli, CheckPrintsDerivedNumbers) {
 TEST(Cli, UnstableTimeStepIsRefusedBeforeTheRun) {
   const fs::path d = temp_dir("dt");
   const fs::path f = write(d, "fast.toml", small_scene("dt = 1e-6\n"));
-  const auto r = strata("run " + f.string());
+  const auto r = run_strata("run " + f.string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("exceeds the critical time step"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(f.string() + ":"), std::string::npos) << r.output;
@@ -144,7 +144,7 @@ TEST(Cli, UnstableTimeStepIsRefusedBeforeTheRun) {
 TEST(Cli, BadOverrideIsValidatedLikeTheFileAndWritesNothing) {
   const fs::path d = temp_dir("set");
   const fs::path f = write(d, "ok.toml", small_scene());
-  const auto r = strata("run " + f.string() + " --set solver.dt=-1");
+  const auto r = run_strata("run " + f.string() + " --set solver.dt=-1");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("--set"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "out"));
@@ -155,7 +155,7 @@ TEST(Cli, RunWritesSeriesProbesAndSummary) {
   if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("run");
   const fs::path f = write(d, "ok.toml", small_scene("[output]\nframes = 2\nrender = false\n"));
-  const auto r = strata("run " + f.string() + " -o " + (d / "res").string());
+  const auto r = run_strata("run " + f.string() + " -o " + (d / "res").string());
   ASSERT_EQ(r.status, 0) << r.output;
   for (const char* file : {"particles.pvd", "bonds.pvd", "probes.csv", "breaks.csv", "summary.json"})
     EXPECT_TRUE(fs::exists(d / "res" / file)) << file;
@@ -172,7 +172,7 @@ TEST(Cli, BlowUpStopsTheRunAndKeepsTheLastGoodFrame) {
   std::string text = small_scene("dt = 3e-7\n[output]\nframes = 200\nrender = false\n");
   text.replace(text.find("steps = 400"), 11, "steps = 20000");
   const fs::path f = write(d, "unstable.toml", text);
-  const auto r = strata("run --force " + f.string() + " -o " + (d / "res").string());
+  const auto r = run_strata("run --force " + f.string() + " -o " + (d / "res").string());
   EXPECT_EQ(r.status, 1) << r.output;
   EXPECT_NE(r.output.find("blow-up"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("last good frame kept"), std::string::npos) << r.output;
@@ -183,18 +183,18 @@ TEST(Cli, BlowUpStopsTheRunAndKeepsTheLastGoodFrame) {
 // The dt_DEM = 1e-4 s of Li et al. 2023 is unstable for the metamaterial chain; strata says
 // so before running and names the stable limits.
 TEST(Cli, ReportRefusesThePapersUnstableStep) {
-  const auto bad = strata("report metamaterial --dt-dem 1e-4 --check");
+  const auto bad = run_strata("report metamaterial --dt-dem 1e-4 --check");
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_NE(bad.output.find("7.68e-05 s for the whole chain"), std::string::npos) << bad.output;
   EXPECT_NE(bad.output.find("8.01e-05 s for the DEM partition alone"), std::string::npos) << bad.output;
-  EXPECT_EQ(strata("report metamaterial --dt-dem 5e-5 --check").status, 0);
-  EXPECT_EQ(strata("report chain6 --eta 0").status, 2);
+  EXPECT_EQ(run_strata("report metamaterial --dt-dem 5e-5 --check").status, 0);
+  EXPECT_EQ(run_strata("report chain6 --eta 0").status, 2);
 }
 
 TEST(Cli, ReportWritesTheSweepTables) {
   const fs::path d = temp_dir("report");
   const auto r =
-      strata("report chain6 --eta 1 --eta 20 --modes serial --duration 2 --no-plot -o " + d.string());
+      run_strata("report chain6 --eta 1 --eta 20 --modes serial --duration 2 --no-plot -o " + d.string());
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(d / "chain6_sweep.csv"));
   EXPECT_TRUE(fs::exists(d / "chain6_sweep.md"));
@@ -293,13 +293,14 @@ TEST(Cli, RestartFromTheFinalCheckpointEqualsAStraightRun) {
   if (!have_hdf5()) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
   const fs::path d = temp_dir("restart");
   const fs::path f = write(d, "scene.toml", breaking_scene("[output]\nframes = 2\nrender = false\n"));
-  const auto straight = strata("run " + f.string() + " -o " + (d / "a").string() + " --set solver.steps=800");
+  const auto straight =
+      run_strata("run " + f.string() + " -o " + (d / "a").string() + " --set solver.steps=800");
   ASSERT_EQ(straight.status, 0) << straight.output;
-  const auto half = strata("run " + f.string() + " -o " + (d / "b").string());
+  const auto half = run_strata("run " + f.string() + " -o " + (d / "b").string());
   ASSERT_EQ(half.status, 0) << half.output;
   ASSERT_TRUE(fs::exists(d / "b" / "checkpoint.h5")) << half.output;
-  const auto rest = strata("run " + f.string() + " -o " + (d / "b").string() +
-                           " --set solver.steps=800 --restart " + (d / "b" / "checkpoint.h5").string());
+  const auto rest = run_strata("run " + f.string() + " -o " + (d / "b").string() +
+                               " --set solver.steps=800 --restart " + (d / "b" / "checkpoint.h5").string());
   ASSERT_EQ(rest.status, 0) << rest.output;
   EXPECT_NE(rest.output.find("restart      step 400"), std::string::npos) << rest.output;
   for (const char* key : {"state_hash", "steps_done", "broken_tension", "broken_shear", "peak_stress_pa"})
@@ -316,14 +317,16 @@ TEST(Cli, RestartWithACheckpointOfAnotherSceneIsRefused) {
   if (!have_hdf5()) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
   const fs::path d = temp_dir("refuse");
   const fs::path f = write(d, "scene.toml", small_scene("[output]\nframes = 0\nrender = false\n"));
-  ASSERT_EQ(strata("run " + f.string() + " -o " + (d / "a").string()).status, 0);
-  const auto r = strata("run " + f.string() + " -o " + (d / "b").string() + " --set material.rock.kn=5e10" +
-                        " --restart " + (d / "a" / "checkpoint.h5").string());
+  ASSERT_EQ(run_strata("run " + f.string() + " -o " + (d / "a").string()).status, 0);
+  const auto r =
+      run_strata("run " + f.string() + " -o " + (d / "b").string() + " --set material.rock.kn=5e10" +
+                 " --restart " + (d / "a" / "checkpoint.h5").string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("belongs to another scene"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("fingerprint"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "b")) << "a refused restart must write nothing";
-  const auto junk = strata("run " + f.string() + " -o " + (d / "c").string() + " --restart " + f.string());
+  const auto junk =
+      run_strata("run " + f.string() + " -o " + (d / "c").string() + " --restart " + f.string());
   EXPECT_EQ(junk.status, 2) << junk.output;
   EXPECT_NE(junk.output.find("not a strata checkpoint"), std::string::npos) << junk.output;
   fs::remove_all(d);
@@ -373,10 +376,10 @@ TEST(Cli, InterruptedRunWritesACheckpointAndRestartsExactly) {
   const std::string at = summary_field(d / "res", "steps_done");
   const std::string steps = std::to_string(std::stoll(at) + 300);
   const std::string quiet = " --set output.vtk=false --set solver.steps=" + steps;
-  const auto rest = strata("run " + f.string() + " -o " + (d / "res").string() + quiet + " --restart " +
-                           (d / "res" / "checkpoint.h5").string());
+  const auto rest = run_strata("run " + f.string() + " -o " + (d / "res").string() + quiet + " --restart " +
+                               (d / "res" / "checkpoint.h5").string());
   ASSERT_EQ(rest.status, 0) << rest.output;
-  const auto straight = strata("run " + f.string() + " -o " + (d / "straight").string() + quiet);
+  const auto straight = run_strata("run " + f.string() + " -o " + (d / "straight").string() + quiet);
   ASSERT_EQ(straight.status, 0) << straight.output;
   EXPECT_EQ(summary_field(d / "res", "steps_done"), steps);
   EXPECT_EQ(summary_field(d / "res", "state_hash"), summary_field(d / "straight", "state_hash"));
@@ -391,7 +394,7 @@ TEST(Cli, FramesBySimulatedTimeAndByBrokenBonds) {
   const fs::path d = temp_dir("cadence");
   const fs::path f = write(d, "scene.toml", breaking_scene("dt = 2e-8\n[output]\nrender = false\n"));
   const auto by_time =
-      strata("run " + f.string() + " -o " + (d / "t").string() + " --set output.frame_every_time=3e-6");
+      run_strata("run " + f.string() + " -o " + (d / "t").string() + " --set output.frame_every_time=3e-6");
   ASSERT_EQ(by_time.status, 0) << by_time.output;
   const std::string pvd = read_text(d / "t" / "particles.pvd");
   std::vector<double> times;
@@ -401,8 +404,8 @@ TEST(Cli, FramesBySimulatedTimeAndByBrokenBonds) {
   ASSERT_EQ(times.size(), expected.size()) << pvd;
   for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(times[k], expected[k], 1e-12) << pvd;
 
-  const auto by_breaks = strata("run " + f.string() + " -o " + (d / "b").string() +
-                                " --set output.frame_every_breaks=25 --set output.probe_every=10");
+  const auto by_breaks = run_strata("run " + f.string() + " -o " + (d / "b").string() +
+                                    " --set output.frame_every_breaks=25 --set output.probe_every=10");
   ASSERT_EQ(by_breaks.status, 0) << by_breaks.output;
   const long broken =
       std::stol(summary_field(d / "b", "broken_tension")) + std::stol(summary_field(d / "b", "broken_shear"));
@@ -439,11 +442,11 @@ TEST(Cli, KilledRunContinuesFromItsLastPeriodicCheckpoint) {
 
   const std::string steps = std::to_string(at + 500);
   const auto rest =
-      strata("run " + f.string() + " -o " + (d / "res").string() + " --set solver.steps=" + steps +
-             " --set output.frames=5 --restart " + (d / "res" / "checkpoint.h5").string());
+      run_strata("run " + f.string() + " -o " + (d / "res").string() + " --set solver.steps=" + steps +
+                 " --set output.frames=5 --restart " + (d / "res" / "checkpoint.h5").string());
   ASSERT_EQ(rest.status, 0) << rest.output;
-  const auto straight = strata("run " + f.string() + " -o " + (d / "straight").string() +
-                               " --set output.vtk=false --set solver.steps=" + steps);
+  const auto straight = run_strata("run " + f.string() + " -o " + (d / "straight").string() +
+                                   " --set output.vtk=false --set solver.steps=" + steps);
   ASSERT_EQ(straight.status, 0) << straight.output;
   EXPECT_EQ(summary_field(d / "res", "state_hash"), summary_field(d / "straight", "state_hash"));
 
@@ -476,7 +479,7 @@ TEST(Cli, SelectiveOutputWritesOnlyWhatIsAsked) {
   const fs::path f = write(d, "sel.toml", base);
   // The 10 x 11-row block: 10 + 10 disks in the end rows, 2 per inner row (9 rows) = 38 surface.
   auto run = [&](const std::string& sets, const std::string& name) {
-    const auto r = strata("run " + f.string() + " -o " + (d / name).string() + " " + sets);
+    const auto r = run_strata("run " + f.string() + " -o " + (d / name).string() + " " + sets);
     EXPECT_EQ(r.status, 0) << r.output;
     return frame_counts(d / name / "particles_000001.vtp");
   };
@@ -505,8 +508,8 @@ TEST(Cli, SelectiveOutputWritesOnlyWhatIsAsked) {
   EXPECT_EQ(both.points, surface.points + cut.points - cut_surface.points);
   EXPECT_GT(both.points, surface.points);
   // without a slice, surface_and_slice is refused at its key, before anything is written
-  const auto refused = strata("run " + f.string() + " -o " + (d / "refused").string() +
-                              " --set output.particles=surface_and_slice");
+  const auto refused = run_strata("run " + f.string() + " -o " + (d / "refused").string() +
+                                  " --set output.particles=surface_and_slice");
   EXPECT_EQ(refused.status, 2) << refused.output;
   EXPECT_NE(refused.output.find("slice_thickness is 0"), std::string::npos) << refused.output;
   EXPECT_FALSE(fs::exists(d / "refused" / "summary.json"));
@@ -534,7 +537,7 @@ TEST(Cli, WallsAreWrittenBesideTheParticles) {
                         std::string(have_render() ? "true" : "false") +
                         "\n[[wall]]\nname = \"lid\"\npoint = [0.0, 0.02]\nnormal = [0.0, -1.0]\n"
                         "velocity = [0.0, -1.0]\n"));
-  const auto run = strata("run " + f.string() + " -o " + (d / "run").string());
+  const auto run = run_strata("run " + f.string() + " -o " + (d / "run").string());
   ASSERT_EQ(run.status, 0) << run.output;
   const auto frames = wall_frames(d / "run" / "walls.pvd");
   ASSERT_EQ(frames.size(), 3u);  // the start and two frames
@@ -549,8 +552,8 @@ TEST(Cli, WallsAreWrittenBesideTheParticles) {
   EXPECT_GT(frames.back().time, 0.0);
   if (have_render()) {
     EXPECT_TRUE(fs::exists(d / "run" / "png" / "frame_000002.png")) << run.output;
-    const auto r = strata("render " + (d / "run" / "particles.pvd").string() + " -o " + (d / "png").string() +
-                          " --size 200 150 --no-movie");
+    const auto r = run_strata("render " + (d / "run" / "particles.pvd").string() + " -o " +
+                              (d / "png").string() + " --size 200 150 --no-movie");
     EXPECT_EQ(r.status, 0) << r.output;
     EXPECT_TRUE(fs::exists(d / "png" / "frame_000002.png")) << r.output;
   }
@@ -574,7 +577,7 @@ TEST(Cli, RenderViewAndClipOptionsAreValidated) {
       {"--up 0,0,inf", "an up vector X,Y,Z"},
   };
   for (const auto& c : cases) {
-    const auto r = strata("render " + pvd.string() + " " + c.args);
+    const auto r = run_strata("render " + pvd.string() + " " + c.args);
     EXPECT_EQ(r.status, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.args.substr(0, c.args.find(' '))), std::string::npos) << r.output;
@@ -588,17 +591,17 @@ TEST(Cli, RenderSceneKeysAreValidated) {
   if (!have_vtk()) GTEST_SKIP() << "frames need STRATA_WITH_VTK";
   const fs::path d = temp_dir("render_keys");
   const fs::path f = write(d, "s.toml", small_scene("[output]\nframes = 1\n"));
-  const auto bad_len = strata("run " + f.string() + " -o " + (d / "a").string() +
-                              " --set 'output.clip_plane=[0.0, 0.0, 1.0]'");
+  const auto bad_len = run_strata("run " + f.string() + " -o " + (d / "a").string() +
+                                  " --set 'output.clip_plane=[0.0, 0.0, 1.0]'");
   EXPECT_EQ(bad_len.status, 2) << bad_len.output;
   EXPECT_NE(bad_len.output.find("clip_plane must have 6"), std::string::npos) << bad_len.output;
-  const auto zero = strata("run " + f.string() + " -o " + (d / "b").string() +
-                           " --set 'output.clip_plane=[0.0, 0.0, 0.0, 0.0, 0.0, 0.0]'");
+  const auto zero = run_strata("run " + f.string() + " -o " + (d / "b").string() +
+                               " --set 'output.clip_plane=[0.0, 0.0, 0.0, 0.0, 0.0, 0.0]'");
   EXPECT_EQ(zero.status, 2) << zero.output;
   EXPECT_NE(zero.output.find("normal (the last three numbers) must not be zero"), std::string::npos)
       << zero.output;
-  const auto parallel =
-      strata("run " + f.string() + " -o " + (d / "c").string() + " --set 'output.view_up=[2.0, 1.2, 0.9]'");
+  const auto parallel = run_strata("run " + f.string() + " -o " + (d / "c").string() +
+                                   " --set 'output.view_up=[2.0, 1.2, 0.9]'");
   EXPECT_EQ(parallel.status, 2) << parallel.output;
   EXPECT_NE(parallel.output.find("parallel to view_direction"), std::string::npos) << parallel.output;
   EXPECT_FALSE(fs::exists(d / "a" / "particles.pvd"));
@@ -615,14 +618,14 @@ TEST(Cli, RenderWithViewClipAndFemSeries) {
                            small_scene("[output]\nframes = 1\nmovie = false\nrender_while_running = true\n"
                                        "render_contacts = true\nview_direction = [0.0, -1.0, -1.0]\n"
                                        "clip_plane = [0.0, 0.0, 0.0, 0.0, 0.0, 1.0]\n"));
-  const auto run = strata("run " + f.string() + " -o " + (d / "run").string());
+  const auto run = run_strata("run " + f.string() + " -o " + (d / "run").string());
   EXPECT_EQ(run.status, 0) << run.output;
   EXPECT_TRUE(fs::exists(d / "run" / "png" / "frame_000001.png")) << run.output;
 
   write_mesh_series(d / "fem");
   const auto r =
-      strata("render " + (d / "fem" / "fem.pvd").string() + " -o " + (d / "png").string() +
-             " --size 200 150 --no-movie --field cx --view -1,-0.5,-0.5 --up 0,0,1 --clip 1,1,1,1,0,0");
+      run_strata("render " + (d / "fem" / "fem.pvd").string() + " -o " + (d / "png").string() +
+                 " --size 200 150 --no-movie --field cx --view -1,-0.5,-0.5 --up 0,0,1 --clip 1,1,1,1,0,0");
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(d / "png" / "frame_000000.png")) << r.output;
   EXPECT_TRUE(fs::exists(d / "png" / "frame_000001.png")) << r.output;

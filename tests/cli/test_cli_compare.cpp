@@ -44,7 +44,7 @@ json summary_of(const fs::path& dir) { return json::parse(std::ifstream(dir / "s
 }  // namespace
 
 TEST(CliCompare, HelpShowsAnExample) {
-  auto h = strata("compare --help");
+  auto h = run_strata("compare --help");
   EXPECT_EQ(h.status, 0);
   EXPECT_NE(h.output.find("Example"), std::string::npos);
 }
@@ -52,8 +52,8 @@ TEST(CliCompare, HelpShowsAnExample) {
 TEST(CliCompare, ASceneAgainstItselfHasNoError) {
   const fs::path d = temp_dir("compare_self");
   const fs::path sc = write(d, "block.toml", block("0.05"));
-  auto r = strata("compare " + sc.string() + " --reference " + sc.string() + " --no-plot -o " +
-                  (d / "out").string());
+  auto r = run_strata("compare " + sc.string() + " --reference " + sc.string() + " --no-plot -o " +
+                      (d / "out").string());
   ASSERT_EQ(r.status, 0) << r.output;
   const json j = summary_of(d / "out");
   ASSERT_EQ(j["rows"].size(), 2u);
@@ -74,8 +74,8 @@ TEST(CliCompare, ErrorOfAScaledLoadIsTheScale) {
   const fs::path d = temp_dir("compare_scaled");
   const fs::path ref = write(d, "ref.toml", block("0.05"));
   const fs::path sc = write(d, "fast.toml", block("0.055"));
-  auto r = strata("compare " + sc.string() + " --reference " + ref.string() + " --no-plot -o " +
-                  (d / "out").string());
+  auto r = run_strata("compare " + sc.string() + " --reference " + ref.string() + " --no-plot -o " +
+                      (d / "out").string());
   ASSERT_EQ(r.status, 0) << r.output;
   const json j = summary_of(d / "out");
   const json& row = j["rows"][1];
@@ -89,8 +89,8 @@ TEST(CliCompare, CoupledTunnelAgainstAllParticlesWithARefusedEta) {
   if (!have_gmsh()) GTEST_SKIP() << "the tunnel is a .geo file: needs STRATA_WITH_GMSH";
   const std::string ex = std::string(STRATA_SOURCE_DIR) + "/examples/05_tunnel/";
   const fs::path d = temp_dir("compare_tunnel");
-  auto r = strata("compare " + ex + "scene.toml --reference " + ex +
-                  "reference.toml --eta 2 3 --set solver.steps=2000 " + "--no-plot -o " + d.string());
+  auto r = run_strata("compare " + ex + "scene.toml --reference " + ex +
+                      "reference.toml --eta 2 3 --set solver.steps=2000 " + "--no-plot -o " + d.string());
   ASSERT_EQ(r.status, 0) << r.output;
   const json j = summary_of(d);
   ASSERT_EQ(j["rows"].size(), 3u);
@@ -113,7 +113,8 @@ TEST(CliCompare, CoupledTunnelAgainstAllParticlesWithARefusedEta) {
 TEST(CliCompare, ScenesWithoutGaugesAreRefused) {
   const fs::path d = temp_dir("compare_nogauge");
   const fs::path sc = write(d, "block.toml", block("0.05", false));
-  auto r = strata("compare " + sc.string() + " --reference " + sc.string() + " -o " + (d / "out").string());
+  auto r =
+      run_strata("compare " + sc.string() + " --reference " + sc.string() + " -o " + (d / "out").string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("records no gauges"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "out" / "compare.csv"));

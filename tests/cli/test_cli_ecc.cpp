@@ -35,8 +35,8 @@ steps = 300
 )" + extra;
 }
 
-json mesh_json(const fs::path& scene, const fs::path& out) {
-  const auto r = strata("mesh " + scene.string() + " --json -o " + out.string());
+json ecc_mesh_json(const fs::path& scene, const fs::path& out) {
+  const auto r = run_strata("mesh " + scene.string() + " --json -o " + out.string());
   EXPECT_EQ(r.status, 0) << r.output;
   return json::parse(r.output.substr(r.output.find('{')));
 }
@@ -48,10 +48,10 @@ json mesh_json(const fs::path& scene, const fs::path& out) {
 TEST(CliEcc, MeshReportsTheSpreadOfBondLengths) {
   if (!have_vtk()) GTEST_SKIP() << "`strata mesh -o` writes VTK series: needs STRATA_WITH_VTK";
   const fs::path d = temp_dir("ecc_mesh");
-  const json j0 = mesh_json(write(d, "ra0.toml", ecc_scene(0.0)), d / "m0");
+  const json j0 = ecc_mesh_json(write(d, "ra0.toml", ecc_scene(0.0)), d / "m0");
   ASSERT_TRUE(j0.contains("bond_length_classes"));
   EXPECT_EQ(j0["bond_length_classes"].size(), 1u) << j0["bond_length_classes"].dump();
-  const json j5 = mesh_json(write(d, "ra5.toml", ecc_scene(0.5)), d / "m5");
+  const json j5 = ecc_mesh_json(write(d, "ra5.toml", ecc_scene(0.5)), d / "m5");
   EXPECT_EQ(j5["bonds"], j0["bonds"]) << "the offsets keep the regular lattice's bonds";
   std::size_t classes = 0;
   double lo = 9, hi = 0;
@@ -76,7 +76,7 @@ TEST(CliEcc, RunStartsUnloadedAndIsSofterThanTheRegularLattice) {
   const fs::path d = temp_dir("ecc_run");
   {
     const fs::path f = write(d, "rest.toml", ecc_scene(0.9, "[output]\nframes = 1\nrender = false\n"));
-    const auto r = strata("run " + f.string() + " -o " + (d / "rest").string());
+    const auto r = run_strata("run " + f.string() + " -o " + (d / "rest").string());
     ASSERT_EQ(r.status, 0) << r.output;
     // probes.csv: kinetic and stored energy and broken bonds stay 0 in every row
     std::ifstream in(d / "rest" / "probes.csv");
@@ -114,7 +114,7 @@ render = false
     std::string text = ecc_scene(ra, load);
     if (ra == 0) text.replace(text.find("eccentricity = \"sphere\""), 23, "eccentricity = \"none\"  ");
     const fs::path f = write(d, name + ".toml", text);
-    const auto r = strata("run " + f.string() + " -o " + (d / name).string());
+    const auto r = run_strata("run " + f.string() + " -o " + (d / name).string());
     EXPECT_EQ(r.status, 0) << r.output;
     std::ifstream in(d / name / "summary.json");
     const json s = json::parse(in);

@@ -30,33 +30,33 @@ bool contains(const std::string& text, const std::string& part) {
 TEST(CliHardening, IntegersBeyondTheirRangeAreRefusedAtTheirKey) {
   for (const std::string set : {"coupled.eta=[4294967297]", "coupled.repeats=4294967297",
                                 "coupled.frames=2147483648", "coupled.series_eta=-4294967295"}) {
-    const auto r = strata("check " + kWave + " --set " + set);
+    const auto r = run_strata("check " + kWave + " --set " + set);
     EXPECT_EQ(r.status, 2) << set << ": " << r.output;
     EXPECT_TRUE(contains(r.output, "--set " + set + ": ")) << r.output;
   }
-  const auto r = strata("check " + kQuick + " --set solver.min_particles_per_thread=4294967297");
+  const auto r = run_strata("check " + kQuick + " --set solver.min_particles_per_thread=4294967297");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(contains(r.output, "at most 2147483647")) << r.output;
   // threads has its own bound, the thread pool's size.
-  const auto t = strata("check " + kQuick + " --set solver.threads=4294967297");
+  const auto t = run_strata("check " + kQuick + " --set solver.threads=4294967297");
   EXPECT_EQ(t.status, 2) << t.output;
   EXPECT_TRUE(
       contains(t.output, "--set solver.threads=4294967297: threads = 4294967297 must be >= 0 and <= 1024"))
       << t.output;
   // The same numbers as options: refused by the option parser.
-  EXPECT_EQ(strata("report wave --check --eta 4294967297").status, 2);
-  EXPECT_EQ(strata("report chain6 --check --repeats 4294967297").status, 2);
+  EXPECT_EQ(run_strata("report wave --check --eta 4294967297").status, 2);
+  EXPECT_EQ(run_strata("report chain6 --check --repeats 4294967297").status, 2);
 }
 
 // Option ranges read as numbers, not as the 309 digits of the largest double.
 TEST(CliHardening, OptionRangesAreShortAndEmptyPathsAreRefused) {
-  const auto r = strata("bench dem --particles 0");
+  const auto r = run_strata("bench dem --particles 0");
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(contains(r.output, "--particles: 0 must be a finite number > 0")) << r.output;
   EXPECT_LT(r.output.size(), 300u) << r.output;
   // -o "" (an unset shell variable, say) is not the scene's own folder.
   for (const std::string& cmd : {"run " + kQuick, "mesh " + kQuick, std::string("report chain6")}) {
-    const auto e = strata(cmd + " -o \"\"");
+    const auto e = run_strata(cmd + " -o \"\"");
     EXPECT_EQ(e.status, 2) << cmd << ": " << e.output;
     EXPECT_TRUE(contains(e.output, "an empty path")) << e.output;
   }
@@ -67,14 +67,14 @@ TEST(CliHardening, OptionRangesAreShortAndEmptyPathsAreRefused) {
 TEST(CliHardening, RenderRefusesDamagedSeries) {
   if (!have_render() || !have_vtk()) GTEST_SKIP() << "needs STRATA_WITH_RENDER and STRATA_WITH_VTK";
   const fs::path d = temp_dir("damaged_series");
-  const auto run = strata("run " + kQuick + " -o " + (d / "run").string() +
-                          " --set solver.steps=400 --set output.frames=2 --set output.render=false");
+  const auto run = run_strata("run " + kQuick + " -o " + (d / "run").string() +
+                              " --set solver.steps=400 --set output.frames=2 --set output.render=false");
   ASSERT_EQ(run.status, 0) << run.output;
   const fs::path pvd = d / "run" / "particles.pvd";
   {  // cut short
     fs::copy_file(pvd, d / "run" / "cut.pvd");
     fs::resize_file(d / "run" / "cut.pvd", fs::file_size(pvd) / 2);
-    const auto r = strata("render " + (d / "run" / "cut.pvd").string() + " -o " + (d / "png1").string());
+    const auto r = run_strata("render " + (d / "run" / "cut.pvd").string() + " -o " + (d / "png1").string());
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "cut.pvd is damaged")) << r.output;
     EXPECT_FALSE(fs::exists(d / "png1"));
@@ -83,14 +83,15 @@ TEST(CliHardening, RenderRefusesDamagedSeries) {
     std::ofstream(d / "run" / "empty.pvd")
         << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n"
            "  <Collection>\n  </Collection>\n</VTKFile>\n";
-    const auto r = strata("render " + (d / "run" / "empty.pvd").string() + " -o " + (d / "png2").string());
+    const auto r =
+        run_strata("render " + (d / "run" / "empty.pvd").string() + " -o " + (d / "png2").string());
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_TRUE(contains(r.output, "lists no frames")) << r.output;
   }
   {  // a frame cut short
     const fs::path frame = d / "run" / "particles_000001.vtp";
     fs::resize_file(frame, fs::file_size(frame) / 2);
-    const auto r = strata("render " + pvd.string() + " -o " + (d / "png3").string());
+    const auto r = run_strata("render " + pvd.string() + " -o " + (d / "png3").string());
     EXPECT_EQ(r.status, 1) << r.output;
     EXPECT_TRUE(contains(r.output, "particles_000001.vtp is damaged")) << r.output;
     EXPECT_FALSE(fs::exists(d / "png3" / "frame_000000.png")) << "nothing drawn from a damaged series";
@@ -104,9 +105,9 @@ TEST(CliHardening, ReRunIntoAnOldFolderLeavesNoStaleFrames) {
   const fs::path d = temp_dir("rerun");
   const std::string base =
       "run " + kQuick + " -o " + d.string() + " --set solver.steps=400 --set output.render=false";
-  ASSERT_EQ(strata(base + " --set output.frames=4").status, 0);
+  ASSERT_EQ(run_strata(base + " --set output.frames=4").status, 0);
   std::ofstream(d / "particles_000002.vtp.tmp") << "killed while writing";
-  const auto r = strata(base + " --set output.frames=1");
+  const auto r = run_strata(base + " --set output.frames=1");
   ASSERT_EQ(r.status, 0) << r.output;
   std::size_t frames = 0;
   for (const auto& f : fs::directory_iterator(d))
@@ -119,7 +120,7 @@ TEST(CliHardening, ReRunIntoAnOldFolderLeavesNoStaleFrames) {
 // gmsh's version is named where files written for a newer gmsh fail, and by --version.
 TEST(CliHardening, GmshVersionIsNamed) {
   if (!have_gmsh()) GTEST_SKIP() << "needs STRATA_WITH_GMSH";
-  const auto v = strata("--version");
+  const auto v = run_strata("--version");
   EXPECT_EQ(v.status, 0);
   EXPECT_TRUE(contains(v.output, "gmsh 4.")) << v.output;
   const fs::path d = temp_dir("newer_gmsh");
@@ -139,7 +140,7 @@ physical = "rock"
 [solver]
 steps = 2
 )";
-  const auto r = strata("check " + (d / "scene.toml").string());
+  const auto r = run_strata("check " + (d / "scene.toml").string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_TRUE(contains(r.output, "gmsh 4.")) << r.output;
   EXPECT_TRUE(contains(r.output, "newer gmsh")) << r.output;
@@ -194,19 +195,20 @@ TEST(CliHardening, ErrorsOfWhatAKeyNamesPointAtTheKey) {
     EXPECT_TRUE(std::regex_search(r.output, located)) << r.output;
     EXPECT_TRUE(contains(r.output, what)) << r.output;
   };
-  refused_at(strata("check " + kQuickAnyBuild + " --set material[0].density=1e-320"),
+  refused_at(run_strata("check " + kQuickAnyBuild + " --set material[0].density=1e-320"),
              "--set material[0].density=1e-320: ");
-  refused_at(strata("check " + kQuickAnyBuild + " --set region[0].size=[0.0001,0.0001]"), "quick.toml:24:");
+  refused_at(run_strata("check " + kQuickAnyBuild + " --set region[0].size=[0.0001,0.0001]"),
+             "quick.toml:24:");
   if (!have_gmsh()) GTEST_SKIP() << "geometry files need STRATA_WITH_GMSH";
   const std::string plate = std::string(STRATA_SOURCE_DIR) + "/examples/03_plate_with_holes/quick.toml";
-  refused_at(strata("check " + plate + " --set 'region[0].physical=\"nope\"'"), "no region");
+  refused_at(run_strata("check " + plate + " --set 'region[0].physical=\"nope\"'"), "no region");
   const fs::path d = temp_dir("xz_plane");
   const fs::path scene = geo_scene(d,
                                    "SetFactory(\"OpenCASCADE\");\nRectangle(1) = {0, 0, 0, 0.03, 0.03};\n"
                                    "Rotate {{1, 0, 0}, {0, 0, 0}, Pi/2} { Surface{1}; }\n"
                                    "Physical Surface(\"rock\") = {1};\n",
                                    "particles");
-  refused_at(strata("check " + scene.string()), "xy plane");
+  refused_at(run_strata("check " + scene.string()), "xy plane");
   fs::remove_all(d);
 }
 
@@ -214,7 +216,7 @@ namespace {
 /// Volume of the geometry mesh a particle region was filled from, from `strata mesh --json`:
 /// particles · (π/6)d³ / packing density.
 double filled_volume(const std::string& scene, double d) {
-  const auto r = strata("mesh " + scene + " --json");
+  const auto r = run_strata("mesh " + scene + " --json");
   EXPECT_EQ(r.status, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
   const auto& region = j["regions"][0];
@@ -255,16 +257,16 @@ TEST(CliHardening, GeometryExtensionsAndMeshSizeWhereItMeansSomething) {
   for (const std::string ext : {".brep", ".stp", ".step", ".brp", ".dxf"})
     std::ofstream(d / ("part" + ext)) << "\n";
   for (const std::string ext : {".brep", ".stp", ".step", ".brp"}) {
-    const auto r = strata("check " + kQuick + " --set region[0].shape=\"file\" --set region[0].file=\"" +
-                          (d / ("part" + ext)).string() + "\"");
+    const auto r = run_strata("check " + kQuick + " --set region[0].shape=\"file\" --set region[0].file=\"" +
+                              (d / ("part" + ext)).string() + "\"");
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_FALSE(contains(r.output, "not a geometry file strata reads")) << ext << ": " << r.output;
   }
-  const auto bad = strata("check " + kQuick + " --set region[0].shape=\"file\" --set region[0].file=\"" +
-                          (d / "part.dxf").string() + "\"");
+  const auto bad = run_strata("check " + kQuick + " --set region[0].shape=\"file\" --set region[0].file=\"" +
+                              (d / "part.dxf").string() + "\"");
   EXPECT_EQ(bad.status, 2) << bad.output;
   EXPECT_TRUE(contains(bad.output, ".brep")) << bad.output;
-  const auto box = strata("check " + kQuick + " --set region[0].mesh_size=0.001");
+  const auto box = run_strata("check " + kQuick + " --set region[0].mesh_size=0.001");
   EXPECT_EQ(box.status, 2) << box.output;
   EXPECT_TRUE(contains(box.output, "--set region[0].mesh_size=0.001: mesh_size sets")) << box.output;
   fs::remove_all(d);

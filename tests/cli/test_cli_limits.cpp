@@ -11,11 +11,12 @@ using namespace cli_test;
 TEST(CliLimits, ThreadCountsBeyondTheLimitAreRefused) {
   const std::string scene = std::string(STRATA_SOURCE_DIR) + "/examples/01_uniaxial_compression/quick.toml";
   for (const char* n : {"100000", "2147483648", "4294967297", "-1"}) {
-    const auto r = strata("run " + scene + " --threads " + n + " -o /tmp/strata_cli_limits_never_written");
+    const auto r =
+        run_strata("run " + scene + " --threads " + n + " -o /tmp/strata_cli_limits_never_written");
     EXPECT_EQ(r.status, 2) << "--threads " << n << ": " << r.output;
     EXPECT_NE(r.output.find("--threads"), std::string::npos) << r.output;
   }
-  EXPECT_EQ(strata("bench dem --threads 100000").status, 2);
+  EXPECT_EQ(run_strata("bench dem --threads 100000").status, 2);
 }
 
 // The benchmark's block steps to the same state whatever the thread count: its state hash is
@@ -27,7 +28,7 @@ TEST(CliLimits, BenchDemReportsTheSameStateHashForAnyThreadCount) {
     std::string hash;
     for (const char* t : {"1", "2", "3"}) {
       const auto r =
-          strata(std::string("bench dem --dim ") + dim + " --particles 14000 --steps 10 --threads " + t);
+          run_strata(std::string("bench dem --dim ") + dim + " --particles 14000 --steps 10 --threads " + t);
       ASSERT_EQ(r.status, 0) << r.output;
       const auto at = r.output.find("\"state_hash\": \"");
       ASSERT_NE(at, std::string::npos) << r.output;

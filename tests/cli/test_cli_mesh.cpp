@@ -57,7 +57,7 @@ steps = 2
 }
 
 json mesh_json(const std::string& args) {
-  const auto r = strata("mesh " + args + " --json");
+  const auto r = run_strata("mesh " + args + " --json");
   EXPECT_EQ(r.status, 0) << r.output;
   const auto brace = r.output.find('{');
   if (brace == std::string::npos) return json::object();
@@ -105,11 +105,11 @@ TEST(CliMesh, RunAndCheckBuildBothPartsOfAMixedScene) {
   // overlap layer, one series with both parts.
   const fs::path d = temp_dir("mesh_fem_run");
   const fs::path scene = write(d, "mixed.toml", mixed_scene());
-  const auto c = strata("check " + scene.string());
+  const auto c = run_strata("check " + scene.string());
   EXPECT_EQ(c.status, 0) << c.output;
   EXPECT_NE(c.output.find("coupling     eta = 1 (serial)"), std::string::npos) << c.output;
   EXPECT_NE(c.output.find("FEM region   elastic"), std::string::npos) << c.output;
-  const auto r = strata("run " + scene.string() + " -o " + (d / "out").string());
+  const auto r = run_strata("run " + scene.string() + " -o " + (d / "out").string());
   EXPECT_EQ(r.status, 0) << r.output;
   EXPECT_TRUE(fs::exists(d / "out" / "particles.pvd"));
   EXPECT_TRUE(fs::exists(d / "out" / "fem.pvd"));
@@ -146,7 +146,7 @@ radius = 0.008
 steps = 2
 )");
   const json j = mesh_json(scene.string());
-  const auto r = strata("run " + scene.string() + " -o " + (d / "run").string());
+  const auto r = run_strata("run " + scene.string() + " -o " + (d / "run").string());
   ASSERT_EQ(r.status, 0) << r.output;
   const json s = summary(d / "run");
   ASSERT_TRUE(s.contains("bonds")) << s.dump(2);

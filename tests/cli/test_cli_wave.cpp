@@ -16,11 +16,11 @@ using namespace cli_test;
 
 namespace {
 
-const fs::path kExample = fs::path(STRATA_SOURCE_DIR) / "examples" / "04_coupled_wave";
+const fs::path kWaveExample = fs::path(STRATA_SOURCE_DIR) / "examples" / "04_coupled_wave";
 
 /// A wave scene outside the example folder (the geometry by absolute path): one pulse length,
 /// η = 1 and 5, serial, no series, no plots: about a second.
-std::string small_wave(const std::string& geometry = (kExample / "wave.geo").string()) {
+std::string small_wave(const std::string& geometry = (kWaveExample / "wave.geo").string()) {
   return "[coupled]\ncase = \"wave\"\ngeometry = \"" + geometry +
          "\"\nwavelengths = [20]\neta = [1, 5]\nmodes = \"serial\"\nframes = 0\n\n[output]\n"
          "directory = \"res\"\nrender = false\n";
@@ -36,23 +36,23 @@ void expect_nothing_written(const fs::path& d) {
 
 TEST(CliWave, CheckOfTheQuickScenePrintsTheStabilityBlock) {
   if (!have_gmsh()) GTEST_SKIP() << "the wave's geometry is a .geo file: needs STRATA_WITH_GMSH";
-  const fs::path quick = kExample / "quick.toml";
-  const auto r = cli_test::strata("check " + quick.string());
+  const fs::path quick = kWaveExample / "quick.toml";
+  const auto r = run_strata("check " + quick.string());
   EXPECT_EQ(r.status, 0) << r.output;
   for (const char* what : {"(coupled wave)", "2D coupled wave", "coupled steps: DEM leapfrog at dt_DEM =",
                            "DEM partition: limit", "FEM partition: explicit limit",
                            "eta =  1: dt_FEM =", "eta =  5: dt_FEM =", "central-difference -> ok",
                            "implicit-newmark -> ok", "sweep: wavelengths 20 d; eta = 1, 5; modes both"})
     EXPECT_NE(r.output.find(what), std::string::npos) << what << "\n" << r.output;
-  EXPECT_FALSE(fs::exists(kExample / "out")) << "check must not write output";
+  EXPECT_FALSE(fs::exists(kWaveExample / "out")) << "check must not write output";
 
   // η = 12 puts dt_FEM = 1.8 x the lattice's limit: the coupler's note on the copy step.
-  const auto n = cli_test::strata("check " + quick.string() + " --set coupled.eta=[12]");
+  const auto n = run_strata("check " + quick.string() + " --set coupled.eta=[12]");
   EXPECT_EQ(n.status, 0) << n.output;
   EXPECT_NE(n.output.find("note: dt_FEM = "), std::string::npos) << n.output;
   EXPECT_NE(n.output.find("the overlap exchange may be unstable"), std::string::npos) << n.output;
 
-  const auto j = cli_test::strata("check --json " + quick.string());
+  const auto j = run_strata("check --json " + quick.string());
   EXPECT_EQ(j.status, 0) << j.output;
   EXPECT_NE(j.output.find("\"per_eta\""), std::string::npos) << j.output;
   EXPECT_NE(j.output.find("\"case\": \"wave\""), std::string::npos) << j.output;
@@ -66,14 +66,14 @@ TEST(CliWave, CheckRefusesAnExplicitFemAboveItsLimit) {
   std::string text = small_wave();
   text.replace(text.find("modes"), 0, "fem_scheme = \"central-difference\"\n");
   const fs::path cd = write(d, "cd.toml", text);
-  const auto r = cli_test::strata("check " + cd.string());
+  const auto r = run_strata("check " + cd.string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find(cd.string() + ":6:14: eta = 5 cannot run with fem_scheme = \"central-difference\""),
             std::string::npos)
       << r.output;
   EXPECT_NE(r.output.find("eta =  5: dt_FEM ="), std::string::npos) << "the numbers come first\n" << r.output;
   // run: the same refusal, and nothing written.
-  const auto run = cli_test::strata("run " + cd.string() + " -o " + (d / "res").string());
+  const auto run = run_strata("run " + cd.string() + " -o " + (d / "res").string());
   EXPECT_EQ(run.status, 2) << run.output;
   expect_nothing_written(d);
   fs::remove_all(d);
@@ -86,7 +86,7 @@ TEST(CliWave, InvalidSceneWritesNothing) {
   std::string text = small_wave();
   text.replace(text.find("wavelengths"), 0, "dt_dem = 1e-4\n");
   const fs::path bad = write(d, "bad.toml", text);
-  const auto r = cli_test::strata("run " + bad.string());
+  const auto r = run_strata("run " + bad.string());
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(
       r.output.find(bad.string() + ":4:10: dt_dem applies only to case = \"chain6\" or \"metamaterial\""),
@@ -94,7 +94,7 @@ TEST(CliWave, InvalidSceneWritesNothing) {
       << r.output;
   // A pulse too long for the geometry: refused at wavelengths, after the model is built.
   const fs::path lng = write(d, "long.toml", small_wave());
-  const auto l = cli_test::strata("run " + lng.string() + " --set coupled.wavelengths=[20,400]");
+  const auto l = run_strata("run " + lng.string() + " --set coupled.wavelengths=[20,400]");
   EXPECT_EQ(l.status, 2) << l.output;
   EXPECT_NE(l.output.find("--set coupled.wavelengths=[20,400]: wave: a pulse of 400 particle diameters"),
             std::string::npos)
@@ -107,7 +107,7 @@ TEST(CliWave, MissingGeometryFileNamesThePath) {
   const fs::path d = temp_dir("wave_geo");
   const fs::path f = write(d, "nogeo.toml", small_wave("no_such_wave.geo"));
   for (const char* cmd : {"check ", "run "}) {
-    const auto r = cli_test::strata(cmd + f.string());
+    const auto r = run_strata(cmd + f.string());
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find(f.string() + ":3:12: geometry 'no_such_wave.geo' not found (looked for " +
                             (d / "no_such_wave.geo").lexically_normal().string()),
@@ -123,12 +123,12 @@ TEST(CliWave, RunWritesTheSameFilesAsTheReport) {
   if (!have_gmsh()) GTEST_SKIP() << "the wave's geometry is a .geo file: needs STRATA_WITH_GMSH";
   const fs::path d = temp_dir("wave_run");
   const fs::path f = write(d, "wave.toml", small_wave());
-  const auto r = cli_test::strata("run " + f.string());
+  const auto r = run_strata("run " + f.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("wrote:"), std::string::npos) << r.output;
-  const auto rep = cli_test::strata("report wave --geometry " + (kExample / "wave.geo").string() +
-                                    " --wavelengths 20 --eta 1 5 --modes serial --frames 0 --no-plot -o " +
-                                    (d / "rep").string());
+  const auto rep = run_strata("report wave --geometry " + (kWaveExample / "wave.geo").string() +
+                              " --wavelengths 20 --eta 1 5 --modes serial --frames 0 --no-plot -o " +
+                              (d / "rep").string());
   ASSERT_EQ(rep.status, 0) << rep.output;
   for (const char* file : {"wave_sweep.csv", "wave_sweep.md", "summary.json"}) {
     EXPECT_TRUE(fs::exists(d / "res" / file)) << file << "\n" << r.output;

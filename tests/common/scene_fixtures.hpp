@@ -1,7 +1,6 @@
 #pragma once
 // Scene texts shared by the scene tests (tests/scene) and the end-to-end tests of the
-// `strata` command (tests/cli). Namespace `fixtures`, not `strata`: the cli tests' `strata()`
-// helper (run the command) would clash with it.
+// `strata` command (tests/cli).
 #include <string>
 
 namespace fixtures {

@@ -1,7 +1,6 @@
 #pragma once
 // The small tetrahedral test mesh shared by the io tests (io_test_util.hpp) and the cli
-// tests (series_check.cpp). Namespace `fixtures`, not `strata`: the cli tests' `strata()`
-// helper (run the command) would clash with it.
+// tests (series_check.cpp).
 #include <strata/io/frame.hpp>
 
 #include <cstdint>

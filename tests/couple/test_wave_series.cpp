@@ -132,7 +132,7 @@ void check_series(const fs::path& dir, std::size_t frames, Counts& out) {
 // so that the equality is not one of zeros.
 TEST(WaveSeries, QuickRunWritesBothSidesWithEqualOverlapValues) {
   const fs::path dir = cli_test::temp_dir("wave_series");
-  const auto r = cli_test::strata("report wave --quick --frames 3 -o " + dir.string());
+  const auto r = cli_test::run_strata("report wave --quick --frames 3 -o " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   Counts c;
   check_series(dir / "series", 3, c);
@@ -149,8 +149,8 @@ TEST(WaveSeries, QuickRunWritesBothSidesWithEqualOverlapValues) {
 // FEM | DEM | FEM: one mesh of two blocks, two overlaps; the same checks cover both.
 TEST(WaveSeries, EmbeddedStripHasTwoOverlapsInTheSeries) {
   const fs::path dir = cli_test::temp_dir("wave_series_embedded");
-  const auto r = cli_test::strata("report wave --embedded --quick --modes serial --no-plot --frames 3 -o " +
-                                  dir.string());
+  const auto r = cli_test::run_strata(
+      "report wave --embedded --quick --modes serial --no-plot --frames 3 -o " + dir.string());
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_FALSE(fs::exists(dir / "series" / "png"));  // --no-plot: no pictures
   Counts c;

@@ -17,7 +17,7 @@
 #include "cli_test_util.hpp"
 
 namespace fs = std::filesystem;
-using namespace cli_test;  // cli_test::strata() runs the command; strata:: is the library
+using namespace cli_test;  // run_strata() runs the command
 
 namespace {
 
@@ -71,13 +71,13 @@ void expect_refused_at(const Result& r, const fs::path& scene, int line, const s
 Result run_scene(const fs::path& dir, const std::string& name, const std::string& text,
                  const std::string& more = "") {
   const fs::path f = write(dir, name, text);
-  return cli_test::strata("run " + f.string() + " -o " + (dir / "out").string() + more);
+  return run_strata("run " + f.string() + " -o " + (dir / "out").string() + more);
 }
 
 }  // namespace
 
 TEST(Parts, VersionNamesEveryOptionAndWhetherThisBuildHasIt) {
-  const auto r = cli_test::strata("--version");
+  const auto r = run_strata("--version");
   ASSERT_EQ(r.status, 0) << r.output;
   for (const auto& f : strata::config::kFeatures) {
     const auto at = r.output.find(f.option);
@@ -124,8 +124,8 @@ TEST(Parts, GeometryFileNeedsGmsh) {
   expect_refused_at(r, d / "geo.toml", line_of(text, "file = "), "STRATA_WITH_GMSH", d / "out");
   EXPECT_NE(r.output.find("block.geo"), std::string::npos) << r.output;
   // `strata mesh`, which builds the regions only, refuses it at the same line.
-  expect_refused_at(cli_test::strata("mesh " + (d / "geo.toml").string()), d / "geo.toml",
-                    line_of(text, "file = "), "STRATA_WITH_GMSH", d / "out");
+  expect_refused_at(run_strata("mesh " + (d / "geo.toml").string()), d / "geo.toml", line_of(text, "file = "),
+                    "STRATA_WITH_GMSH", d / "out");
   fs::remove_all(d);
 }
 
@@ -243,28 +243,26 @@ TEST(Parts, CommandsThatNeedAMissingPartStopFirst) {
   const fs::path scene = write(d, "block.toml", block_scene("vtk = false\nrender = false\n"));
   if (!STRATA_WITH_RENDER) {
     std::ofstream(d / "particles.pvd") << "<VTKFile/>\n";
-    const auto r =
-        cli_test::strata("render " + (d / "particles.pvd").string() + " -o " + (d / "png").string());
+    const auto r = run_strata("render " + (d / "particles.pvd").string() + " -o " + (d / "png").string());
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("-DSTRATA_WITH_RENDER=ON"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(d / "png"));
   }
   if (!STRATA_WITH_VTK) {
-    const auto r = cli_test::strata("mesh " + scene.string() + " -o " + (d / "model").string());
+    const auto r = run_strata("mesh " + scene.string() + " -o " + (d / "model").string());
     EXPECT_EQ(r.status, 2) << r.output;
     EXPECT_NE(r.output.find("-o"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("-DSTRATA_WITH_VTK=ON"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(d / "model"));
-    EXPECT_EQ(cli_test::strata("mesh " + scene.string()).status, 0)
-        << "without -o `strata mesh` writes nothing";
-    const auto w = cli_test::strata("report wave --quick --no-plot --frames 2 -o " + (d / "wave").string());
+    EXPECT_EQ(run_strata("mesh " + scene.string()).status, 0) << "without -o `strata mesh` writes nothing";
+    const auto w = run_strata("report wave --quick --no-plot --frames 2 -o " + (d / "wave").string());
     EXPECT_EQ(w.status, 2) << w.output;
     EXPECT_NE(w.output.find("--frames"), std::string::npos) << w.output;
     EXPECT_NE(w.output.find("-DSTRATA_WITH_VTK=ON"), std::string::npos) << w.output;
     EXPECT_FALSE(fs::exists(d / "wave"));
   }
   if (!STRATA_WITH_GMSH) {
-    const auto w = cli_test::strata("report wave --quick --no-plot --frames 0 -o " + (d / "wave").string());
+    const auto w = run_strata("report wave --quick --no-plot --frames 0 -o " + (d / "wave").string());
     EXPECT_EQ(w.status, 2) << w.output;
     EXPECT_NE(w.output.find("-DSTRATA_WITH_GMSH=ON"), std::string::npos) << w.output;
   }
@@ -285,9 +283,9 @@ eta = [1]
 directory = "out"
 )";
   const fs::path f = write(d, "wave.toml", text);
-  expect_refused_at(cli_test::strata("check " + f.string()), f, line_of(text, "geometry = "),
-                    "STRATA_WITH_GMSH", d / "out");
-  expect_refused_at(cli_test::strata("run " + f.string() + " -o " + (d / "out").string()), f,
+  expect_refused_at(run_strata("check " + f.string()), f, line_of(text, "geometry = "), "STRATA_WITH_GMSH",
+                    d / "out");
+  expect_refused_at(run_strata("run " + f.string() + " -o " + (d / "out").string()), f,
                     line_of(text, "geometry = "), "STRATA_WITH_GMSH", d / "out");
   fs::remove_all(d);
 }
@@ -298,7 +296,7 @@ TEST(Parts, CheckRefusesAGeometryFileAtItsLine) {
   std::ofstream(d / "block.geo") << "Rectangle(1) = {0, 0, 0, 0.01, 0.01};\n";
   const std::string text = block_scene("", "shape = \"file\"\nfile = \"block.geo\"\n");
   const fs::path f = write(d, "geo.toml", text);
-  expect_refused_at(cli_test::strata("check " + f.string()), f, line_of(text, "file = "), "STRATA_WITH_GMSH",
+  expect_refused_at(run_strata("check " + f.string()), f, line_of(text, "file = "), "STRATA_WITH_GMSH",
                     d / "out");
   fs::remove_all(d);
 }

@@ -15,20 +15,17 @@
 #include <string>
 #include <vector>
 
+#include "scene_test_util.hpp"
+
 namespace fs = std::filesystem;
 
 using strata::scene::RunObserver;
 using strata::scene::RunStatus;
+using strata::scene::test::fresh_path;
 
 namespace {
 
 const fs::path kTunnel = fs::path(STRATA_SOURCE_DIR) / "examples" / "05_tunnel" / "quick.toml";
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("strata_coupled_run_" + name);
-  fs::remove_all(d);
-  return d;
-}
 
 nlohmann::json summary(const fs::path& dir) {
   std::ifstream f(dir / "summary.json");
@@ -51,7 +48,7 @@ TEST(CoupledRun, TunnelSceneWritesParticlesAndFemIntoOneSeries) {
   if (!STRATA_WITH_GMSH || !STRATA_WITH_VTK)
     GTEST_SKIP() << "the tunnel is a .geo file and the test reads its frames: needs STRATA_WITH_GMSH and "
                     "STRATA_WITH_VTK";
-  const fs::path dir = fresh_dir("series");
+  const fs::path dir = fresh_path("coupled_run_series");
   const auto r = run_tunnel(dir, {"solver.steps=400", "output.frames=2"});
   EXPECT_EQ(r.status, RunStatus::Completed);
   EXPECT_EQ(r.step, 400);
@@ -94,7 +91,7 @@ TEST(CoupledRun, TunnelSceneWritesParticlesAndFemIntoOneSeries) {
 TEST(CoupledRun, SerialAndParallelCouplingGiveTheSameBits) {
   if (!STRATA_WITH_GMSH) GTEST_SKIP() << "the tunnel is a .geo file: needs STRATA_WITH_GMSH";
   strata::par::set_threads(1);
-  const fs::path a = fresh_dir("serial"), b = fresh_dir("parallel");
+  const fs::path a = fresh_path("coupled_run_serial"), b = fresh_path("coupled_run_parallel");
   run_tunnel(a, {"solver.steps=200", "output.frames=0", "solver.coupling=\"serial\""});
   run_tunnel(b, {"solver.steps=200", "output.frames=0", "solver.coupling=\"parallel\""});
   EXPECT_EQ(summary(a)["state_hash"], summary(b)["state_hash"]);
@@ -103,7 +100,7 @@ TEST(CoupledRun, SerialAndParallelCouplingGiveTheSameBits) {
 
 TEST(CoupledRun, RestartFromACheckpointContinuesBitForBit) {
   if (!STRATA_WITH_HDF5) GTEST_SKIP() << "checkpoints need STRATA_WITH_HDF5";
-  const fs::path straight = fresh_dir("straight"), split = fresh_dir("split");
+  const fs::path straight = fresh_path("coupled_run_straight"), split = fresh_path("coupled_run_split");
   run_tunnel(straight, {"solver.steps=400", "output.frames=0"});
   run_tunnel(split, {"solver.steps=200", "output.frames=0"});
   const auto r = run_tunnel(split, {"solver.steps=400", "output.frames=0"}, split / "checkpoint.h5");
@@ -116,7 +113,7 @@ TEST(CoupledRun, FemOnlySceneMovesItsLoadedSideAtTheGivenVelocity) {
   if (!STRATA_WITH_GMSH) GTEST_SKIP() << "its FEM region is meshed by gmsh: needs STRATA_WITH_GMSH";
   // The far field alone (the tunnel's FEM region, the hole now an empty disk of radius Rp):
   // the top nodes move at the prescribed velocity, everything stays finite.
-  const fs::path dir = fresh_dir("fem_only");
+  const fs::path dir = fresh_path("coupled_run_fem_only");
   const fs::path scene = dir.string() + ".toml";
   {
     std::ifstream in(kTunnel);

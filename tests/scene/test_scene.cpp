@@ -12,9 +12,11 @@
 #include <strata/scene/model.hpp>
 #include <strata/scene/scene.hpp>
 #include "scene_fixtures.hpp"
+#include "scene_test_util.hpp"
 
 namespace fs = std::filesystem;
 using strata::scene::Scene;
+using strata::scene::test::error_of;
 
 namespace {
 
@@ -44,23 +46,11 @@ steps = 1000
 )toml";
 
 /// kBase with the first occurrence of `from` replaced by `to`.
-std::string edit(const std::string& from, const std::string& to, std::string text = kBase) {
+std::string edit_base(const std::string& from, const std::string& to, std::string text = kBase) {
   const auto at = text.find(from);
   EXPECT_NE(at, std::string::npos) << "kBase has no '" << from << "'";
   if (at != std::string::npos) text.replace(at, from.size(), to);
   return text;
-}
-
-/// The message of the Input error that parsing `text` throws, or "no error".
-std::string error_of(const std::string& text, const std::vector<std::string>& sets = {},
-                     const fs::path& file = "scene.toml") {
-  try {
-    strata::scene::parse(text, file, sets);
-  } catch (const strata::Error& e) {
-    EXPECT_EQ(e.kind(), strata::ErrorKind::Input) << e.what();
-    return e.what();
-  }
-  return "no error";
 }
 
 /// A fresh, empty folder for scene and geometry files, removed afterwards.
@@ -300,8 +290,8 @@ TEST(SceneLoad, ChoicesAreEnumsAndValuesFailAtTheirPositions) {
 }
 
 TEST(SceneLoad, ThreeDimensionalDefaultsKeepThreeComponents) {
-  std::string text = edit("dimension = 2", "dimension = 3");
-  text = edit("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]", text);
+  std::string text = edit_base("dimension = 2", "dimension = 3");
+  text = edit_base("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]", text);
   const Scene s = strata::scene::parse(text, "scene.toml");
   EXPECT_EQ(s.regions[0].origin.value, (std::vector<double>{0.0, 0.0, 0.0}));
   EXPECT_EQ(s.boundaries[0].axes.value, (std::vector<std::string>{"x", "y", "z"}));
@@ -326,18 +316,18 @@ TEST(SceneErrors, FourAcceptanceErrorsHaveExactPositionsAndDifferentMessages) {
   TempDir dir;
   const fs::path file = dir.path() / "scene.toml";
 
-  const std::string misspelt = error_of(edit("kn = 6.5e10", "kn_typo = 6.5e10"));
+  const std::string misspelt = error_of(edit_base("kn = 6.5e10", "kn_typo = 6.5e10"));
   EXPECT_EQ(misspelt, "scene.toml:8:1: unknown key 'kn_typo' in [[material]]; did you mean 'kn'? (allowed: " +
                           kMaterialKeys + ")");
 
-  const std::string negative = error_of(edit("kn = 6.5e10", "kn = -5"));
+  const std::string negative = error_of(edit_base("kn = 6.5e10", "kn = -5"));
   EXPECT_EQ(negative, "scene.toml:8:6: kn = -5 must be > 0 (N/m)");
 
-  const std::string wrong_type = error_of(edit("dt = 2e-8", "dt = \"fast\""));
+  const std::string wrong_type = error_of(edit_base("dt = 2e-8", "dt = \"fast\""));
   EXPECT_EQ(wrong_type, "scene.toml:30:6: dt must be a real number (s), got a string \"fast\"");
 
   const std::string missing_file =
-      error_of(edit("size = [0.03, 0.03]", "shape = \"file\"\nfile = \"geom/specimen.geo\""), {}, file);
+      error_of(edit_base("size = [0.03, 0.03]", "shape = \"file\"\nfile = \"geom/specimen.geo\""), {}, file);
   EXPECT_EQ(missing_file, file.string() + ":16:8: file 'geom/specimen.geo' not found (looked for " +
                               (dir.path() / "geom" / "specimen.geo").string() +
                               "; paths are relative to the scene file)");
@@ -349,12 +339,12 @@ TEST(SceneErrors, FourAcceptanceErrorsHaveExactPositionsAndDifferentMessages) {
 // ---- other errors ----------------------------------------------------------------------------
 
 TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
-  EXPECT_EQ(error_of(edit("[solver]", "[solvr]")),
+  EXPECT_EQ(error_of(edit_base("[solver]", "[solvr]")),
             "scene.toml:29:1: unknown table [solvr]; did you mean [solver]? (allowed: [scene], [[material]], "
             "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], "
             "[network], [coupled], [calibrate], [study], [[vary]], [[measure]])");
   EXPECT_EQ(
-      error_of(edit("[[group]]", "[[groups]]")),
+      error_of(edit_base("[[group]]", "[[groups]]")),
       "scene.toml:17:1: unknown table [[groups]]; did you mean [[group]]? (allowed: [scene], [[material]], "
       "[[region]], [[group]], [[boundary]], [[load]], [[wall]], [solver], [output], [probe], [network], "
       "[coupled], "
@@ -362,9 +352,9 @@ TEST(SceneErrors, UnknownTableSuggestsTheClosest) {
 }
 
 TEST(SceneErrors, TableWrittenWithTheWrongBrackets) {
-  EXPECT_EQ(error_of(edit("[[region]]", "[region]")),
+  EXPECT_EQ(error_of(edit_base("[[region]]", "[region]")),
             "scene.toml:11:1: [region] must be written [[region]]: it is a list of tables, one per region");
-  EXPECT_EQ(error_of(edit("[solver]", "[[solver]]")),
+  EXPECT_EQ(error_of(edit_base("[solver]", "[[solver]]")),
             "scene.toml:29:1: [[solver]] must be written [solver]: there is one [solver] table");
 }
 
@@ -374,33 +364,33 @@ TEST(SceneErrors, KeyOutsideAnyTable) {
 }
 
 TEST(SceneErrors, UnknownKeyWithoutACloseMatchListsTheAllowedKeys) {
-  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ncolour = 1")),
+  EXPECT_EQ(error_of(edit_base("steps = 1000", "steps = 1000\ncolour = 1")),
             "scene.toml:32:1: unknown key 'colour' in [solver] (allowed: " + kSolverKeys + ")");
-  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\nseed = 1")),
+  EXPECT_EQ(error_of(edit_base("steps = 1000", "steps = 1000\nseed = 1")),
             "scene.toml:32:1: unknown key 'seed' in [solver]; 'seed' is a key of [scene] (allowed: " +
                 kSolverKeys + ")");
 }
 
 TEST(SceneErrors, BadChoiceSuggestsTheClosest) {
   EXPECT_EQ(
-      error_of(edit("steps = 1000", "steps = 1000\ndamping = \"visous\"")),
+      error_of(edit_base("steps = 1000", "steps = 1000\ndamping = \"visous\"")),
       "scene.toml:32:11: damping = \"visous\" must be one of none, viscous, local; did you mean 'viscous'?");
-  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndamping = \"heavy\"")),
+  EXPECT_EQ(error_of(edit_base("steps = 1000", "steps = 1000\ndamping = \"heavy\"")),
             "scene.toml:32:11: damping = \"heavy\" must be one of none, viscous, local");
 }
 
 TEST(SceneErrors, MissingRequiredKeyPointsAtTheTableHeader) {
   EXPECT_EQ(
-      error_of(edit("material = \"rock\"\n", "")),
+      error_of(edit_base("material = \"rock\"\n", "")),
       "scene.toml:11:1: [[region]] 'specimen' is missing required key 'material' (the [[material]] that "
       "fills the region, by name)");
   EXPECT_EQ(
-      error_of(edit("type = \"fixed\"\n", "")),
+      error_of(edit_base("type = \"fixed\"\n", "")),
       "scene.toml:25:1: [[boundary]] at index 0 is missing required key 'type' (fixed: held in place; "
       "velocity: moved at `velocity`; step_displacement: moved by `increment` every `every` steps (Li et al. "
       "2017 move their platens 1.9e-9 m every 400 steps))");
   EXPECT_EQ(
-      error_of(edit("dimension = 2\n", "")),
+      error_of(edit_base("dimension = 2\n", "")),
       "scene.toml:1:1: [scene] is missing required key 'dimension' (2 for a plane model of disks (hexagonal "
       "lattice), 3 for a model of spheres (close-packed lattice))");
 }
@@ -418,42 +408,43 @@ TEST(SceneErrors, MissingRequiredTable) {
 }
 
 TEST(SceneErrors, TomlSyntaxErrorKeepsLineAndColumn) {
-  EXPECT_EQ(error_of(edit("kn = 6.5e10", "kn = 6.5e10 N/m")),
+  EXPECT_EQ(error_of(edit_base("kn = 6.5e10", "kn = 6.5e10 N/m")),
             "scene.toml:8:13: TOML syntax error: Error while parsing key-value pair: expected a comment or "
             "whitespace, saw 'N'");
 }
 
 TEST(SceneErrors, IntegersAndInfinity) {
-  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1.5")),
+  EXPECT_EQ(error_of(edit_base("steps = 1000", "steps = 1.5")),
             "scene.toml:31:9: steps must be an integer, got a real number 1.5");
-  EXPECT_EQ(error_of(edit("steps = 1000", "steps = -1")), "scene.toml:31:9: steps = -1 must be >= 0");
-  EXPECT_EQ(error_of(edit("dimension = 2", "dimension = 4")),
+  EXPECT_EQ(error_of(edit_base("steps = 1000", "steps = -1")), "scene.toml:31:9: steps = -1 must be >= 0");
+  EXPECT_EQ(error_of(edit_base("dimension = 2", "dimension = 4")),
             "scene.toml:3:13: dimension = 4 must be 2 or 3");
-  EXPECT_EQ(error_of(edit("steps = 1000", "steps = 1000\ndt_safety = 1.5")),
+  EXPECT_EQ(error_of(edit_base("steps = 1000", "steps = 1000\ndt_safety = 1.5")),
             "scene.toml:32:13: dt_safety = 1.5 must be > 0 and <= 1");
-  EXPECT_EQ(error_of(edit("ks = 2.4e10", "ks = inf")), "scene.toml:9:6: ks = inf must be finite (N/m)");
-  EXPECT_EQ(error_of(edit("ks = 2.4e10", "ks = nan")), "scene.toml:9:6: ks = nan must be a number (N/m)");
+  EXPECT_EQ(error_of(edit_base("ks = 2.4e10", "ks = inf")), "scene.toml:9:6: ks = inf must be finite (N/m)");
+  EXPECT_EQ(error_of(edit_base("ks = 2.4e10", "ks = nan")),
+            "scene.toml:9:6: ks = nan must be a number (N/m)");
   const Scene s =
-      strata::scene::parse(edit("ks = 2.4e10", "ks = 2.4e10\nshear_strength = inf"), "scene.toml");
+      strata::scene::parse(edit_base("ks = 2.4e10", "ks = 2.4e10\nshear_strength = inf"), "scene.toml");
   EXPECT_TRUE(std::isinf(s.materials[0].shear_strength.value));
   EXPECT_TRUE(s.materials[0].shear_strength.given);
 }
 
 TEST(SceneErrors, WrongTypesInLists) {
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = 0.03")),
+  EXPECT_EQ(error_of(edit_base("size = [0.03, 0.03]", "size = 0.03")),
             "scene.toml:15:8: size must be a list of real numbers (m), got a real number 0.03");
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, \"a\"]")),
+  EXPECT_EQ(error_of(edit_base("size = [0.03, 0.03]", "size = [0.03, \"a\"]")),
             "scene.toml:15:15: size[1] must be a real number (m), got a string \"a\"");
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, -0.03]")),
+  EXPECT_EQ(error_of(edit_base("size = [0.03, 0.03]", "size = [0.03, -0.03]")),
             "scene.toml:15:15: size[1] = -0.03 must be > 0 (m)");
 }
 
 TEST(SceneErrors, ListLengthMustMatchTheDimension) {
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]")),
+  EXPECT_EQ(error_of(edit_base("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]")),
             "scene.toml:15:8: size has 3 components, but the scene is 2D: give one per axis (x, y)");
-  EXPECT_EQ(error_of(edit("type = \"fixed\"", "type = \"fixed\"\naxes = [\"x\", \"z\"]")),
+  EXPECT_EQ(error_of(edit_base("type = \"fixed\"", "type = \"fixed\"\naxes = [\"x\", \"z\"]")),
             "scene.toml:28:14: axes: 'z' is not an axis of a 2D scene (allowed: x, y)");
-  EXPECT_EQ(error_of(edit("dimension = 2", "dimension = 3")),
+  EXPECT_EQ(error_of(edit_base("dimension = 2", "dimension = 3")),
             "scene.toml:15:8: size has 2 components, but the scene is 3D: give one per axis (x, y, z)");
   EXPECT_EQ(error_of(kBase, {"probe.axis=z"}),
             "--set probe.axis=z: axis = \"z\" is not an axis of a 2D scene (allowed: x, y)");
@@ -465,20 +456,21 @@ TEST(SceneErrors, ListLengthMustMatchTheDimension) {
 
 TEST(SceneErrors, CrossReferences) {
   EXPECT_EQ(
-      error_of(edit("material = \"rock\"", "material = \"rok\"")),
+      error_of(edit_base("material = \"rock\"", "material = \"rok\"")),
       "scene.toml:13:12: material = \"rok\" names no [[material]]; did you mean 'rock'? (defined: rock)");
   EXPECT_EQ(
-      error_of(edit("group = \"bottom\"", "group = \"botom\"")),
+      error_of(edit_base("group = \"bottom\"", "group = \"botom\"")),
       "scene.toml:26:9: group = \"botom\" names no [[group]] or [[region]]; did you mean 'bottom'? (defined: "
       "top, bottom, specimen)");
-  EXPECT_NO_THROW(strata::scene::parse(edit("group = \"bottom\"", "group = \"specimen\""), "scene.toml"));
+  EXPECT_NO_THROW(
+      strata::scene::parse(edit_base("group = \"bottom\"", "group = \"specimen\""), "scene.toml"));
   EXPECT_EQ(
-      error_of(edit("name = \"top\"", "name = \"specimen\"")),
+      error_of(edit_base("name = \"top\"", "name = \"specimen\"")),
       "scene.toml:18:8: [[group]] name 'specimen' is already a [[region]] name (every region is also a group "
       "of its own name)");
-  EXPECT_EQ(error_of(edit("select = \"top_row\"", "select = \"top_row\"\nregion = \"sample\"")),
+  EXPECT_EQ(error_of(edit_base("select = \"top_row\"", "select = \"top_row\"\nregion = \"sample\"")),
             "scene.toml:20:10: region = \"sample\" names no [[region]] (defined: specimen)");
-  EXPECT_EQ(error_of(edit("name = \"bottom\"", "name = \"top\"")),
+  EXPECT_EQ(error_of(edit_base("name = \"bottom\"", "name = \"top\"")),
             "scene.toml:22:8: [[group]] name 'top' is used twice (first at scene.toml:18:8)");
   EXPECT_EQ(
       error_of(kBase + "\n[probe]\nstress_strain = true\ntop_group = \"upper\"\n"),
@@ -488,25 +480,25 @@ TEST(SceneErrors, CrossReferences) {
 
 TEST(SceneErrors, ShapeAndTypeDependentKeys) {
   EXPECT_EQ(
-      error_of(edit("size = [0.03, 0.03]\n", "")),
+      error_of(edit_base("size = [0.03, 0.03]\n", "")),
       "scene.toml:11:1: [[region]] 'specimen' needs 'size' for shape = \"box\" (extent of a box along each "
       "axis)");
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "shape = \"disk\"\ncenter = [0, 0]")),
+  EXPECT_EQ(error_of(edit_base("size = [0.03, 0.03]", "shape = \"disk\"\ncenter = [0, 0]")),
             "scene.toml:15:9: [[region]] 'specimen' needs 'radius' for shape = \"disk\" (radius of a disk, "
             "sphere or cylinder)");
   EXPECT_EQ(
-      error_of(edit("diameter = 0.001\n", "")),
+      error_of(edit_base("diameter = 0.001\n", "")),
       "scene.toml:11:1: [[region]] 'specimen' needs 'diameter' for kind = \"particles\" (particle diameter "
       "d)");
   EXPECT_EQ(
-      error_of(edit("type = \"fixed\"", "type = \"velocity\"")),
+      error_of(edit_base("type = \"fixed\"", "type = \"velocity\"")),
       "scene.toml:27:8: [[boundary]] at index 0 needs 'velocity' for type = \"velocity\" (velocity, one "
       "component per axis)");
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, 0.03]\nlattice = \"hcp\"")),
+  EXPECT_EQ(error_of(edit_base("size = [0.03, 0.03]", "size = [0.03, 0.03]\nlattice = \"hcp\"")),
             "scene.toml:16:11: lattice = \"hcp\" is for 3D scenes; in 2D use hex (or auto)");
   EXPECT_EQ(error_of(kBase + "[[wall]]\nname = \"w\"\npoint = [0, 0]\nnormal = [0, 0]\n"),
             "scene.toml:35:10: normal must not be zero: give the direction pointing into the particles");
-  EXPECT_EQ(error_of(edit("steps = 1000\n", "")),
+  EXPECT_EQ(error_of(edit_base("steps = 1000\n", "")),
             "scene.toml:29:1: the run has no length: set solver.steps or solver.duration (both are 0)");
   EXPECT_EQ(
       error_of(kBase +
@@ -560,7 +552,7 @@ TEST(SceneOverrides, ErrorsPointAtTheOverride) {
             "--set solver.dt: expected key=value, e.g. solver.dt=1e-8 or "
             "material.rock.kn=1e9");
   // Overrides are checked before the file: their problems come first.
-  EXPECT_EQ(error_of(edit("kn = 6.5e10", "kn = -5"), {"solver.steps=0.5"}),
+  EXPECT_EQ(error_of(edit_base("kn = 6.5e10", "kn = -5"), {"solver.steps=0.5"}),
             "--set solver.steps=0.5: steps must be an integer, got a real number 0.5");
 }
 
@@ -575,7 +567,7 @@ TEST(SceneOverrides, CreateKeysAndTables) {
   EXPECT_TRUE(s.probe.stress_strain.value);
   EXPECT_EQ(s.probe.pos.str(), "--set probe.stress_strain=true");
   // A created table is checked like the file: here the default top_group does not exist.
-  EXPECT_EQ(error_of(edit("name = \"top\"", "name = \"upper\""), {"probe.stress_strain=true"}),
+  EXPECT_EQ(error_of(edit_base("name = \"top\"", "name = \"upper\""), {"probe.stress_strain=true"}),
             "--set probe.stress_strain=true: top_group = \"top\" names no [[group]] or [[region]], which "
             "stress_strain = true needs (defined: upper, bottom, specimen)");
 }
@@ -622,8 +614,8 @@ TEST(SceneSchema, EveryKeyIsDocumentedAndEveryDefaultIsValid) {
     }
   }
   // Every default converts and passes its own checks: kBase (which leaves most keys out) parses in 2D and 3D.
-  std::string text3 = edit("dimension = 2", "dimension = 3");
-  text3 = edit("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]", text3);
+  std::string text3 = edit_base("dimension = 2", "dimension = 3");
+  text3 = edit_base("size = [0.03, 0.03]", "size = [0.03, 0.03, 0.03]", text3);
   EXPECT_NO_THROW(strata::scene::parse(text3, "scene.toml"));
 }
 
@@ -652,8 +644,8 @@ TEST(SceneSchema, ReferenceDocIsInSyncWithTheSchema) {
 TEST(SceneBoundaries, AxesNamedWithAZeroIncrementAreHeld) {
   auto largest_lateral_displacement = [](const std::string& axes) {
     const std::string text =
-        edit("[solver]", "[[boundary]]\ngroup = \"top\"\ntype = \"step_displacement\"\naxes = " + axes +
-                             "\nincrement = [0.0, -2e-8]\nevery = 1\n\n[solver]");
+        edit_base("[solver]", "[[boundary]]\ngroup = \"top\"\ntype = \"step_displacement\"\naxes = " + axes +
+                                  "\nincrement = [0.0, -2e-8]\nevery = 1\n\n[solver]");
     const Scene sc = strata::scene::parse(text, "scene.toml", {});
     strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
     m.advance(1000);
@@ -679,9 +671,9 @@ TEST(SceneBoundaries, AxesNamedWithAZeroIncrementAreHeld) {
 // the sum negative at the first step and stopped the run as a blow-up).
 TEST(SceneBoundaries, PlatensSteppingEveryFewStepsAreNoBlowUp) {
   const std::string text =
-      edit("[solver]",
-           "[[boundary]]\ngroup = \"top\"\ntype = \"step_displacement\"\naxes = [\"y\"]\n"
-           "increment = [0.0, -1.9e-9]\nevery = 400\n\n[solver]");
+      edit_base("[solver]",
+                "[[boundary]]\ngroup = \"top\"\ntype = \"step_displacement\"\naxes = [\"y\"]\n"
+                "increment = [0.0, -1.9e-9]\nevery = 400\n\n[solver]");
   const Scene sc = strata::scene::parse(text, "scene.toml", {});
   strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
   EXPECT_NO_THROW(m.advance(1000));
@@ -698,11 +690,12 @@ TEST(SceneBoundaries, PlatensSteppingEveryFewStepsAreNoBlowUp) {
 // add up to the load's magnitude, as the blast load on the rim of a hole is shared.
 TEST(SceneLoads, RadialLoadSharedByAGroupPushesAwayFromTheCentre) {
   for (const std::string center : {"", "center = [0.0151, 0.0148]\n"}) {
-    const std::string text = edit("[solver]",
-                                  "[[group]]\nname = \"rim\"\nselect = \"box\"\nbox_min = [0.012, 0.012]\n"
-                                  "box_max = [0.018, 0.018]\n\n[[load]]\ngroup = \"rim\"\ntype = \"radial\"\n"
-                                  "times = [0, 1]\nmagnitudes = [2e5, 2e5]\nper = \"group\"\n" +
-                                      center + "\n[solver]");
+    const std::string text =
+        edit_base("[solver]",
+                  "[[group]]\nname = \"rim\"\nselect = \"box\"\nbox_min = [0.012, 0.012]\n"
+                  "box_max = [0.018, 0.018]\n\n[[load]]\ngroup = \"rim\"\ntype = \"radial\"\n"
+                  "times = [0, 1]\nmagnitudes = [2e5, 2e5]\nper = \"group\"\n" +
+                      center + "\n[solver]");
     const Scene sc = strata::scene::parse(text, "scene.toml", {});
     strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
     const auto& sim = m.sim();
@@ -763,7 +756,7 @@ TEST(SceneRegions, StrengthFactorsHaveTheirMeanAndSpreadAndFollowTheSeed) {
       EXPECT_NE(f, strata::scene::strength_factors(spread, cov, 20000, 43));
     }
   EXPECT_EQ(strata::scene::strength_factors(StrengthSpread::None, 0.2, 3, 1), std::vector<double>(3, 1.0));
-  EXPECT_EQ(error_of(edit("size = [0.03, 0.03]", "size = [0.03, 0.03]\nstrength_spread = \"weibull\"")),
+  EXPECT_EQ(error_of(edit_base("size = [0.03, 0.03]", "size = [0.03, 0.03]\nstrength_spread = \"weibull\"")),
             "scene.toml:16:19: strength_spread = \"weibull\" needs strength_cov > 0 (the coefficient of "
             "variation of the bond strengths, e.g. 0.2)");
 }
@@ -773,12 +766,13 @@ TEST(SceneRegions, StrengthFactorsHaveTheirMeanAndSpreadAndFollowTheSeed) {
 // first, and so the first break comes at a smaller platen displacement.
 TEST(SceneRegions, ASpreadOfStrengthsBreaksTheWeakestBondsFirst) {
   auto first_break = [](const std::string& extra) {
-    const std::string text = edit(
+    const std::string text = edit_base(
         "size = [0.03, 0.03]", "size = [0.03, 0.03]\n" + extra,
-        edit("[solver]",
-             "[[boundary]]\ngroup = \"top\"\ntype = \"velocity\"\naxes = [\"y\"]\nvelocity = [0.0, -0.5]\n\n"
-             "[solver]",
-             edit("ks = 2.4e10", "ks = 2.4e10\ntensile_strength = 1.25e4\nshear_strength = 3.7e4")));
+        edit_base(
+            "[solver]",
+            "[[boundary]]\ngroup = \"top\"\ntype = \"velocity\"\naxes = [\"y\"]\nvelocity = [0.0, -0.5]\n\n"
+            "[solver]",
+            edit_base("ks = 2.4e10", "ks = 2.4e10\ntensile_strength = 1.25e4\nshear_strength = 3.7e4")));
     const Scene sc = strata::scene::parse(text, "scene.toml", {});
     strata::scene::BuiltModel m = strata::scene::build_model(sc, false);
     while (m.sim().broken_count() == 0 && m.step_count() < 200000) m.advance(100);

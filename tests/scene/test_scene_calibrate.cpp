@@ -15,7 +15,10 @@
 #include <numbers>
 #include <string>
 
+#include "scene_test_util.hpp"
+
 namespace fs = std::filesystem;
+using strata::scene::test::error_of;
 
 namespace {
 
@@ -30,16 +33,6 @@ tensile_strength = 12e6
 density = 2650
 diameter = 0.001
 )toml";
-
-std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    strata::scene::parse(text, "cal.toml", sets);
-  } catch (const strata::Error& e) {
-    EXPECT_EQ(e.kind(), strata::ErrorKind::Input) << e.what();
-    return e.what();
-  }
-  return "no error";
-}
 
 }  // namespace
 
@@ -64,32 +57,32 @@ TEST(SceneCalibrate, TargetsAndDefaultsAreRead) {
 
 TEST(SceneCalibrate, ChecksBetweenKeysPointAtTheKey) {
   EXPECT_EQ(
-      error_of(kCalibration, {"calibrate.poisson_ratio=0.4"}),
+      error_of(kCalibration, {"calibrate.poisson_ratio=0.4"}, "cal.toml"),
       "--set calibrate.poisson_ratio=0.4: poisson_ratio = 0.4 is above 1/3, the largest that bonds of normal "
       "and shear springs give a hexagonal lattice (with Ks = 0); allowed: -1 < poisson_ratio <= 1/3");
-  EXPECT_EQ(error_of(kCalibration, {"scene.dimension=3"}), "no error")
+  EXPECT_EQ(error_of(kCalibration, {"scene.dimension=3"}, "cal.toml"), "no error")
       << "0.2 is the 3D limit itself (Ks = 0)";
   EXPECT_EQ(
-      error_of(kCalibration, {"scene.dimension=3", "calibrate.poisson_ratio=0.25"}),
+      error_of(kCalibration, {"scene.dimension=3", "calibrate.poisson_ratio=0.25"}, "cal.toml"),
       "--set calibrate.poisson_ratio=0.25: poisson_ratio = 0.25 is above 1/5, the largest that bonds of "
       "normal and shear springs give a close packing along its stacking axis (with Ks = 0); allowed: -1 < "
       "poisson_ratio <= 0.2");
   EXPECT_EQ(
-      error_of(kCalibration, {"calibrate.ucs=10e6"}),
+      error_of(kCalibration, {"calibrate.ucs=10e6"}, "cal.toml"),
       "--set calibrate.ucs=10e6: ucs = 10000000 Pa is not above tensile_strength = 12000000 Pa; rocks are "
       "several times stronger in compression than in tension");
   EXPECT_EQ(
-      error_of(kCalibration, {"calibrate.lattice=\"hcp\""}),
+      error_of(kCalibration, {"calibrate.lattice=\"hcp\""}, "cal.toml"),
       "--set calibrate.lattice=\"hcp\": lattice = \"hcp\" is for 3D calibrations; in 2D use hex (or auto)");
-  EXPECT_EQ(error_of(kCalibration, {"calibrate.specimen_width=0.005"}),
+  EXPECT_EQ(error_of(kCalibration, {"calibrate.specimen_width=0.005"}, "cal.toml"),
             "--set calibrate.specimen_width=0.005: specimen_width = 0.005 m holds fewer than 10 particles of "
             "diameter 0.001 m across; allowed: 0 (40 diameters) or at least 10 diameters");
   EXPECT_EQ(
-      error_of(kCalibration + "\n[solver]\ndt = 1e-8\n"),
+      error_of(kCalibration + "\n[solver]\ndt = 1e-8\n", {}, "cal.toml"),
       "cal.toml:12:1: [solver] cannot be mixed with [calibrate] (cal.toml:4:1): a calibration describes its "
       "targets and lattice in [calibrate] and builds its own specimens and may hold besides only [scene], "
       "[output] (keys directory, render); remove [solver] or [calibrate]");
-  EXPECT_EQ(error_of(kCalibration + "\n[output]\nframes = 3\n"),
+  EXPECT_EQ(error_of(kCalibration + "\n[output]\nframes = 3\n", {}, "cal.toml"),
             "cal.toml:13:1: output.frames does not apply to a calibration ([calibrate] at cal.toml:4:1): its "
             "[output] takes only directory, render");
 }
@@ -152,7 +145,7 @@ TEST(SceneCalibrate, SpecimensCarryTheStrengthSpread) {
     EXPECT_EQ(s.regions[0].strength_spread.value, strata::scene::StrengthSpread::Weibull) << specimen;
     EXPECT_EQ(s.regions[0].strength_cov.value, 0.2) << specimen;
   }
-  EXPECT_EQ(error_of(kCalibration, {"calibrate.strength_spread=\"normal\""}),
+  EXPECT_EQ(error_of(kCalibration, {"calibrate.strength_spread=\"normal\""}, "cal.toml"),
             "--set calibrate.strength_spread=\"normal\": strength_spread = \"normal\" needs strength_cov > 0 "
             "(the coefficient of variation of the bond strengths, e.g. 0.2)");
 }
@@ -182,10 +175,11 @@ TEST(SceneCalibrate, RunStopsAfterThePeak) {
            "[[region]]\nname = \"s\"\nmaterial = \"rock\"\ndiameter = 0.001\n" +
            shape + "[solver]\nsteps = 10\n" + tail;
   };
-  EXPECT_NE(error_of(small("size = [0.01, 0.01]\n", "[probe]\nstop_after_peak = 0.5\n"))
+  EXPECT_NE(error_of(small("size = [0.01, 0.01]\n", "[probe]\nstop_after_peak = 0.5\n"), {}, "cal.toml")
                 .find("stop_after_peak needs the specimen's stress"),
             std::string::npos);
-  EXPECT_NE(error_of(small("shape = \"cylinder\"\ncenter = [0.0, 0.0]\nradius = 0.01\nheight = 0.01\n", ""))
+  EXPECT_NE(error_of(small("shape = \"cylinder\"\ncenter = [0.0, 0.0]\nradius = 0.01\nheight = 0.01\n", ""),
+                     {}, "cal.toml")
                 .find("shape = \"cylinder\" is for 3D scenes; in 2D use \"disk\""),
             std::string::npos);
 }

@@ -13,29 +13,21 @@
 #include <strata/cases/wave_report.hpp>
 #include <strata/scene/scene.hpp>
 #include "scene_fixtures.hpp"
+#include "scene_test_util.hpp"
 
 using strata::scene::Scene;
+using strata::scene::test::error_of;
 
 namespace {
 
 // The line numbers matter: the tests below point at them (see chain_scene).
 const std::string kCoupled = fixtures::chain_scene("metamaterial", "5e-5", "1, 2, 20");
 
-std::string edit(const std::string& from, const std::string& to, std::string text = kCoupled) {
+std::string edit_coupled(const std::string& from, const std::string& to, std::string text = kCoupled) {
   const auto at = text.find(from);
   EXPECT_NE(at, std::string::npos) << "kCoupled has no '" << from << "'";
   if (at != std::string::npos) text.replace(at, from.size(), to);
   return text;
-}
-
-std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    strata::scene::parse(text, "scene.toml", sets);
-  } catch (const strata::Error& e) {
-    EXPECT_EQ(e.kind(), strata::ErrorKind::Input) << e.what();
-    return e.what();
-  }
-  return "no error";
 }
 
 const std::string kCoupledKeys =
@@ -70,7 +62,7 @@ TEST(SceneCoupled, LoadsWithDefaultsAndMapsOntoTheSweepOptions) {
   EXPECT_EQ(o.output.parent_path().filename(), "dir");  // relative to the scene file
 
   // The default η list is the paper's.
-  const Scene d = strata::scene::parse(edit("eta = [1, 2, 20]\n", ""), "scene.toml");
+  const Scene d = strata::scene::parse(edit_coupled("eta = [1, 2, 20]\n", ""), "scene.toml");
   EXPECT_FALSE(d.coupled->eta.given);  // the default depends on the case
   EXPECT_EQ(strata::cases::coupled_report_options(d, false).etas, (std::vector<int>{1, 2, 3, 4, 5, 10, 20}));
   // A particle scene has no [coupled].
@@ -98,7 +90,7 @@ TEST(SceneCoupled, ParticleTablesCannotBeMixedIn) {
             "scene.toml:1:1: [scene] cannot be mixed with [coupled] (scene.toml:4:1): a coupled scene "
             "describes the whole model in [coupled] and may hold besides only [output] (keys directory, "
             "render); remove [scene] or [coupled]");
-  EXPECT_EQ(error_of(edit("render = false", "render = false\nframes = 10")),
+  EXPECT_EQ(error_of(edit_coupled("render = false", "render = false\nframes = 10")),
             "scene.toml:10:1: output.frames does not apply to a coupled scene ([coupled] at "
             "scene.toml:1:1): its [output] takes only directory, render");
   // A particle scene given a [coupled] table by --set is a mixed scene too.
@@ -110,47 +102,49 @@ TEST(SceneCoupled, ParticleTablesCannotBeMixedIn) {
 }
 
 TEST(SceneCoupled, MisspeltAndMissingKeys) {
-  EXPECT_EQ(error_of(edit("dt_dem = 5e-5", "dt_demm = 5e-5")),
+  EXPECT_EQ(error_of(edit_coupled("dt_dem = 5e-5", "dt_demm = 5e-5")),
             "scene.toml:3:1: unknown key 'dt_demm' in [coupled]; did you mean 'dt_dem'? (allowed: " +
                 kCoupledKeys + ")");
   EXPECT_EQ(
-      error_of(edit("case = \"metamaterial\"", "case = \"metamaterial_chain\"")),
+      error_of(edit_coupled("case = \"metamaterial\"", "case = \"metamaterial_chain\"")),
       "scene.toml:2:8: case = \"metamaterial_chain\" must be one of chain6, metamaterial, wave; did you "
       "mean "
       "'metamaterial'?");
-  EXPECT_EQ(error_of(edit("dt_dem = 5e-5\n", "")),
+  EXPECT_EQ(error_of(edit_coupled("dt_dem = 5e-5\n", "")),
             "scene.toml:2:8: [coupled] needs 'dt_dem' for case = \"metamaterial\" (DEM time step dt_DEM "
             "(velocity Verlet); the FEM step is η·dt_DEM)");
-  EXPECT_EQ(error_of(edit("dt_dem = 5e-5", "dt_dem = -5e-5")),
+  EXPECT_EQ(error_of(edit_coupled("dt_dem = 5e-5", "dt_dem = -5e-5")),
             "scene.toml:3:10: dt_dem = -5e-5 must be > 0 (s)");
   EXPECT_EQ(
-      error_of(edit("modes = \"serial\"", "modes = \"serail\"")),
+      error_of(edit_coupled("modes = \"serial\"", "modes = \"serail\"")),
       "scene.toml:5:9: modes = \"serail\" must be one of serial, parallel, both; did you mean 'serial'?");
 }
 
 TEST(SceneCoupled, EtaValuesAreIntegersOfAtLeastOne) {
-  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, 2.5, 20]")),
+  EXPECT_EQ(error_of(edit_coupled("eta = [1, 2, 20]", "eta = [1, 2.5, 20]")),
             "scene.toml:4:11: eta[1] must be an integer, got a real number 2.5");
-  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, 0, 20]")),
+  EXPECT_EQ(error_of(edit_coupled("eta = [1, 2, 20]", "eta = [1, 0, 20]")),
             "scene.toml:4:11: eta[1] = 0 must be >= 1");
-  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, \"two\"]")),
+  EXPECT_EQ(error_of(edit_coupled("eta = [1, 2, 20]", "eta = [1, \"two\"]")),
             "scene.toml:4:11: eta[1] must be an integer, got a string \"two\"");
-  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = 3")),
+  EXPECT_EQ(error_of(edit_coupled("eta = [1, 2, 20]", "eta = 3")),
             "scene.toml:4:7: eta must be a list of integers, got an integer 3");
-  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = []")),
+  EXPECT_EQ(error_of(edit_coupled("eta = [1, 2, 20]", "eta = []")),
             "scene.toml:4:7: eta must have at least 1 entry, got 0");
-  EXPECT_EQ(error_of(edit("eta = [1, 2, 20]", "eta = [1, 2, 1]")), "scene.toml:4:7: eta: 1 is listed twice");
+  EXPECT_EQ(error_of(edit_coupled("eta = [1, 2, 20]", "eta = [1, 2, 1]")),
+            "scene.toml:4:7: eta: 1 is listed twice");
   // 2.0 is a fine way to write 2.
-  EXPECT_EQ(strata::scene::parse(edit("eta = [1, 2, 20]", "eta = [1, 2.0]"), "scene.toml").coupled->eta.value,
+  EXPECT_EQ(strata::scene::parse(edit_coupled("eta = [1, 2, 20]", "eta = [1, 2.0]"), "scene.toml")
+                .coupled->eta.value,
             (std::vector<std::int64_t>{1, 2}));
 }
 
 TEST(SceneCoupled, ChecksBetweenKeys) {
-  EXPECT_EQ(error_of(edit("case = \"metamaterial\"", "case = \"chain6\"\npulse_amplitude = 5")),
+  EXPECT_EQ(error_of(edit_coupled("case = \"metamaterial\"", "case = \"chain6\"\npulse_amplitude = 5")),
             "scene.toml:3:19: pulse_amplitude applies only to case = \"metamaterial\" (this scene has case = "
             "\"chain6\"); remove it (case = \"chain6\" takes: case, title, dt_dem, eta, modes, duration, "
             "fem_scheme, repeats, threads)");
-  EXPECT_EQ(error_of(edit("modes = \"serial\"", "modes = \"serial\"\nduration = 5e-4")),
+  EXPECT_EQ(error_of(edit_coupled("modes = \"serial\"", "modes = \"serial\"\nduration = 5e-4")),
             "scene.toml:6:12: duration = 0.0005 s holds no FEM step of eta = 20 (eta*dt_dem = 0.001 s): "
             "lengthen duration or lower eta");
 }
@@ -267,7 +261,7 @@ TEST(SceneCoupledWave, KeysOfAnotherCaseAreRefusedWhereTheyAre) {
                                   "scene has case = \"wave\"); remove it (case = \"wave\" takes: " +
                                   kWaveKeys + ")");
   // A wave-only key in a chain scene.
-  EXPECT_EQ(error_of(edit("modes = \"serial\"", "modes = \"serial\"\nwavelengths = [20]")),
+  EXPECT_EQ(error_of(edit_coupled("modes = \"serial\"", "modes = \"serial\"\nwavelengths = [20]")),
             "scene.toml:6:15: wavelengths applies only to case = \"wave\" (this scene has case = "
             "\"metamaterial\"); remove it (case = \"metamaterial\" takes: case, title, dt_dem, eta, modes, "
             "duration, fem_scheme, dt_ref, pulse_amplitude, pulse_duration, repeats, threads)");

@@ -15,16 +15,13 @@
 #include <string>
 #include <vector>
 
+#include "scene_test_util.hpp"
+
 namespace fs = std::filesystem;
+using strata::scene::test::empty_dir;
+using strata::scene::test::setup_error_of;
 
 namespace {
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("strata_scene_loads_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 // A bar of L x H = 0.1 x 0.02 m, rollers on its left (x) and bottom (y) sides, a traction of
 // `traction` N/m on its right side, ramped smoothly from 0 at t = 0 to its value at t = ramp
@@ -71,17 +68,6 @@ std::map<std::string, double> last_probe_row(const fs::path& csv) {
   return row;
 }
 
-std::string error_of(const std::string& text) {
-  try {
-    const auto sc = strata::scene::parse(text, "scene.toml", {});
-    strata::scene::Run run(sc, {fresh_dir("refused"), false, {}});
-  } catch (const strata::Error& e) {
-    EXPECT_EQ(e.kind(), strata::ErrorKind::Input) << e.what();
-    return e.what();
-  }
-  return "no error";
-}
-
 }  // namespace
 
 // Uniaxial stress σ = 1 MPa (1e6 N/m on a unit thickness) in plane stress with E = 50 GPa and
@@ -90,7 +76,7 @@ std::string error_of(const std::string& text) {
 // what is left of the dynamic response is well under the 1 % tolerance.
 TEST(SceneLoads, TractionOnAnFemSideStretchesABarAsUniaxialStress) {
   if (!STRATA_WITH_GMSH) GTEST_SKIP() << "the bar is meshed by gmsh: needs STRATA_WITH_GMSH";
-  const fs::path dir = fresh_dir("bar");
+  const fs::path dir = empty_dir("scene_loads_bar");
   const auto sc = strata::scene::parse(bar_scene(bar_geometry(dir)), (dir / "bar.toml").string(), {});
   strata::scene::Run run(sc, {dir / "out", false, {}});
   strata::scene::RunObserver quiet;
@@ -104,12 +90,12 @@ TEST(SceneLoads, TractionOnAnFemSideStretchesABarAsUniaxialStress) {
 
 TEST(SceneLoads, BoundaryTractionNeedsFemNodesOnTheBoundary) {
   if (!STRATA_WITH_GMSH) GTEST_SKIP() << "the bar is meshed by gmsh: needs STRATA_WITH_GMSH";
-  const fs::path dir = fresh_dir("inner");
+  const fs::path dir = empty_dir("scene_loads_inner");
   std::string text = bar_scene(bar_geometry(dir));
   // a group of inner nodes only: no boundary edge between them
   const std::string from = "box_min = [0.099999, -1]\nbox_max = [1, 1]";
   text.replace(text.find(from), from.size(), "box_min = [0.04, 0.004]\nbox_max = [0.06, 0.016]");
-  const std::string e = error_of(text);
+  const std::string e = setup_error_of(text, "scene.toml", empty_dir("scene_loads_refused"));
   EXPECT_NE(e.find("scene.toml:54:7: group 'right': no boundary edge of the FEM mesh has all its corners in "
                    "the group"),
             std::string::npos)
@@ -127,7 +113,7 @@ TEST(SceneLoads, BoundaryTractionIsForFemNodesOnly) {
       "[[load]]\ngroup = \"top\"\ntimes = [0.0]\nforces = [[0.0, -1.0]]\nper = \"boundary\"\n\n"
       "[solver]\nsteps = 10\n\n[output]\nframes = 0\nrender = false\n";
   EXPECT_EQ(
-      error_of(text),
+      setup_error_of(text, "scene.toml", empty_dir("scene_loads_refused")),
       "scene.toml:26:7: group 'top' holds particles: per = \"boundary\" spreads a traction over the boundary "
       "of FEM nodes (allowed for particles: \"particle\" or \"group\")");
 }
@@ -171,7 +157,7 @@ TEST(SceneFemMesh, ATinyMeshSizeIsRefusedBeforeMeshing) {
       "[[region]]\nname = \"slab\"\nkind = \"fem\"\nmaterial = \"rock\"\nshape = \"box\"\norigin = [0, 0]\n"
       "size = [1.0, 1.0]\nmesh_size = 1e-6\n\n"
       "[solver]\nsteps = 10\n\n[output]\nframes = 0\nrender = false\n";
-  const std::string e = error_of(text);
+  const std::string e = setup_error_of(text, "scene.toml", empty_dir("scene_loads_refused"));
   EXPECT_EQ(
       e.rfind("scene.toml:17:13: FEM mesh of a primitive shape with elements of 1e-06 m: gmsh would make "
               "about 2.31e+12 triangles",

@@ -18,18 +18,15 @@
 #include <string>
 #include <vector>
 
+#include "scene_test_util.hpp"
+
 namespace fs = std::filesystem;
 using strata::scene::Run;
 using strata::scene::Scene;
+using strata::scene::test::empty_dir;
+using strata::scene::test::setup_error_of;
 
 namespace {
-
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("strata_scene_network_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 // The 6-DOF chain wall–k1–m1–…–k6–m6 (k = 1 N/m, m = 1 kg), P·sin(πt/2) on m2; FEM part
 // m1..m4, particle part m3..m6.
@@ -59,24 +56,13 @@ std::string run_to(const Scene& sc, const fs::path& out, const fs::path& restart
   return hash_of(out);
 }
 
-std::string error_of(const std::string& text, const fs::path& file) {
-  try {
-    const Scene sc = strata::scene::parse(text, file, {});
-    Run run(sc, {file.parent_path() / "out", false, {}});
-  } catch (const strata::Error& e) {
-    EXPECT_EQ(e.kind(), strata::ErrorKind::Input) << e.what();
-    return e.what();
-  }
-  return "no error";
-}
-
 }  // namespace
 
 // The chain runs to completion with its probe columns; m6 has moved (the force reached the far
 // end through the overlap); the state after 4000 steps is the same in parallel and after a
 // restart from a checkpoint at step 2000.
 TEST(SceneNetwork, RunsProbesAndContinuesBitForBit) {
-  const fs::path d = fresh_dir("run");
+  const fs::path d = empty_dir("scene_network_run");
   const Scene sc = strata::scene::parse(chain_scene(), d / "chain.toml", {});
   const std::string full = run_to(sc, d / "full");
   const auto probes = strata::io::read_csv(d / "full" / "probes.csv");
@@ -100,21 +86,23 @@ TEST(SceneNetwork, RunsProbesAndContinuesBitForBit) {
 // [solver], a split whose parts share no node, an exchange interval above the particle part's
 // critical step (2/ω_max with ω_max² <= (2 Σ k + k_wall)/m = 4 here, so 1 s).
 TEST(SceneNetwork, BadKeysAreRefusedAtTheirLine) {
-  const fs::path d = fresh_dir("errors");
+  const fs::path d = empty_dir("scene_network_errors");
   const fs::path f = d / "chain.toml";
   std::string s = chain_scene();
   s.replace(s.find("[4, 5, 1.0]"), 11, "[4, 7, 1.0]");
-  EXPECT_EQ(error_of(s, f).rfind(f.string() + ":3:11: springs[4]: node 7 is not one of the network's", 0), 0u)
-      << error_of(s, f);
-  const std::string damping = error_of(chain_scene("damping = \"local\"\n"), f);
+  EXPECT_EQ(setup_error_of(s, f, d / "out")
+                .rfind(f.string() + ":3:11: springs[4]: node 7 is not one of the network's", 0),
+            0u)
+      << setup_error_of(s, f, d / "out");
+  const std::string damping = setup_error_of(chain_scene("damping = \"local\"\n"), f, d / "out");
   EXPECT_NE(damping.find("solver.damping does not apply to a network scene"), std::string::npos) << damping;
   std::string apart = chain_scene();
   apart.replace(apart.find("particle_nodes = [2, 3, 4, 5]"), 29, "particle_nodes = [4, 5]");
-  const std::string split = error_of(apart, f);
+  const std::string split = setup_error_of(apart, f, d / "out");
   EXPECT_EQ(split.rfind(f.string() + ":5:13: ", 0), 0u) << split;
   std::string fast = chain_scene();
   fast.replace(fast.find("eta = 4"), 7, "eta = 1200");
-  const std::string exchange = error_of(fast, f);
+  const std::string exchange = setup_error_of(fast, f, d / "out");
   EXPECT_NE(
       exchange.find("the exchange interval eta x dt = 1200 x 0.001 s = 1.2 s exceeds the particle part's "
                     "critical step 1 s"),
@@ -136,7 +124,7 @@ TEST(SceneCriticalStep, StiffPairsInASoftNetworkBoundTheStep) {
   const Scene sc = strata::scene::load(
       cube, {"region.specimen.eccentricity=\"sphere\"", "region.specimen.ra=0.3", "region.specimen.rc=0.6",
              "scene.seed=2", "solver.dt=0", "solver.dt_safety=0.3", "solver.duration=1e-4"});
-  const fs::path d = fresh_dir("stiff_pairs");
+  const fs::path d = empty_dir("scene_network_stiff_pairs");
   strata::scene::Run run(sc, {d, false, {}, false});
   const auto& sim = run.model().sim();
   const double m = strata::dem::lattice_particle_mass(3, 2650.0, 1e-3), kn = 5.893e6;  // cube.toml's

@@ -12,9 +12,12 @@
 #include <fstream>
 #include <string>
 
+#include "scene_test_util.hpp"
+
 namespace fs = std::filesystem;
 using strata::scene::RunObserver;
 using strata::scene::RunResult;
+using strata::scene::test::fresh_path;
 
 namespace {
 
@@ -78,19 +81,13 @@ class Settling : public RunObserver {
   std::int64_t last = -1, total = -1;
 };
 
-fs::path fresh(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("strata_settle_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
-
 }  // namespace
 
 TEST(SceneSettle, RunSettlesFirstAndARestartDoesNotSettleAgain) {
   if (!STRATA_WITH_HDF5) GTEST_SKIP() << "restart: needs STRATA_WITH_HDF5";
-  const fs::path scene = fresh("scene.toml");
+  const fs::path scene = fresh_path("settle_scene.toml");
   { std::ofstream(scene) << kSettling; }
-  const fs::path a = fresh("a"), b = fresh("b");
+  const fs::path a = fresh_path("settle_a"), b = fresh_path("settle_b");
 
   // 400 steps after settling; the settled start is step 0 at t = 0.
   const auto sc = strata::scene::load(scene, {});
@@ -132,9 +129,9 @@ TEST(SceneSettle, AStopRequestWhileSettlingEndsTheRun) {
    public:
     int stop_requested() override { return calls > 0 ? SIGINT : 0; }
   };
-  const fs::path scene = fresh("stop.toml");
+  const fs::path scene = fresh_path("settle_stop.toml");
   { std::ofstream(scene) << kSettling; }
-  const fs::path dir = fresh("stop");
+  const fs::path dir = fresh_path("settle_stop");
   const auto sc = strata::scene::load(scene, {});  // the run keeps a reference to it
   strata::scene::Run run(sc, {dir, false, {}});
   StopAtOnce observer;

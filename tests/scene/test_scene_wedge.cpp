@@ -10,7 +10,10 @@
 #include <fstream>
 #include <string>
 
+#include "scene_test_util.hpp"
+
 namespace fs = std::filesystem;
+using strata::scene::test::fresh_path;
 
 namespace {
 
@@ -60,12 +63,6 @@ render = false
 vtk = false
 )toml";
 
-fs::path fresh(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("strata_wedge_" + name);
-  fs::remove_all(p);
-  return p;
-}
-
 std::string with(std::string text, const std::string& from, const std::string& to) {
   text.replace(text.find(from), from.size(), to);
   return text;
@@ -74,7 +71,7 @@ std::string with(std::string text, const std::string& from, const std::string& t
 }  // namespace
 
 TEST(SceneWedge, SummaryReportsTheWedgeAndItsCriticalTaper) {
-  const fs::path scene = fresh("scene.toml"), dir = fresh("out");
+  const fs::path scene = fresh_path("wedge_scene.toml"), dir = fresh_path("wedge_out");
   { std::ofstream(scene) << kCover; }
   const auto sc = strata::scene::load(scene, {});
   strata::scene::Run run(sc, {dir, false, {}});
@@ -97,7 +94,7 @@ TEST(SceneWedge, SummaryReportsTheWedgeAndItsCriticalTaper) {
 
 TEST(SceneWedge, BadKeysAreRefusedAtTheirLine) {
   auto refused = [&](const std::string& text, const std::string& where, const std::string& what) {
-    const fs::path scene = fresh("bad.toml");
+    const fs::path scene = fresh_path("wedge_bad.toml");
     { std::ofstream(scene) << text; }
     try {
       const auto sc = strata::scene::load(scene, {});

@@ -4,9 +4,9 @@
 
 namespace strata::scene::tables {
 namespace {
-const Word<BoundaryType> kType[] = {{"fixed", BoundaryType::Fixed},
-                                    {"velocity", BoundaryType::Velocity},
-                                    {"step_displacement", BoundaryType::StepDisplacement}};
+const Word<BoundaryType> kBoundaryType[] = {{"fixed", BoundaryType::Fixed},
+                                            {"velocity", BoundaryType::Velocity},
+                                            {"step_displacement", BoundaryType::StepDisplacement}};
 }  // namespace
 
 TableSpec boundary_spec() {
@@ -22,7 +22,7 @@ TableSpec boundary_spec() {
               .doc("The [[group]] it applies to, by name (a [[region]] name stands for all its particles)."),
           K("type", Choice)
               .required()
-              .choices(words(kType))
+              .choices(words(kBoundaryType))
               .doc("fixed: held in place; velocity: moved at `velocity`; step_displacement: moved by "
                    "`increment` every `every` steps (Li et al. 2017 move their platens 1.9e-9 m every 400 "
                    "steps)."),
@@ -54,7 +54,7 @@ BoundaryTable read_boundary(const Table& t) {
   BoundaryTable b;
   b.pos = t.where();
   read("group", b.group);
-  read("type", b.type, kType);
+  read("type", b.type, kBoundaryType);
   read("axes", b.axes);
   read("velocity", b.velocity);
   read("increment", b.increment);
@@ -66,5 +66,5 @@ BoundaryTable read_boundary(const Table& t) {
 }  // namespace strata::scene::tables
 
 namespace strata::scene {
-std::string_view to_string(BoundaryType v) { return tables::word_of(tables::kType, v); }
+std::string_view to_string(BoundaryType v) { return tables::word_of(tables::kBoundaryType, v); }
 }  // namespace strata::scene

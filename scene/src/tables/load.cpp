@@ -7,7 +7,7 @@ namespace {
 const Word<LoadPer> kPer[] = {
     {"particle", LoadPer::Particle}, {"group", LoadPer::Group}, {"boundary", LoadPer::Boundary}};
 const Word<Ramp> kRamp[] = {{"linear", Ramp::Linear}, {"smooth", Ramp::Smooth}};
-const Word<LoadType> kType[] = {{"force_history", LoadType::ForceHistory}, {"radial", LoadType::Radial}};
+const Word<LoadType> kLoadType[] = {{"force_history", LoadType::ForceHistory}, {"radial", LoadType::Radial}};
 }  // namespace
 
 TableSpec load_spec() {
@@ -24,7 +24,7 @@ TableSpec load_spec() {
               .required()
               .doc("The [[group]] it applies to, by name (a [[region]] name stands for all its particles)."),
           K("type", Choice)
-              .choices(words(kType))
+              .choices(words(kLoadType))
               .def(R"("force_history")")
               .doc("force_history: force vectors given at a list of times (`forces`); radial: magnitudes "
                    "(`magnitudes`), each particle or FEM node pushed along the unit vector from `center` "
@@ -77,7 +77,7 @@ LoadTable read_load(const Table& t) {
   LoadTable l;
   l.pos = t.where();
   read("group", l.group);
-  read("type", l.type, kType);
+  read("type", l.type, kLoadType);
   read("times", l.times);
   read("forces", l.forces);
   read("magnitudes", l.magnitudes);
@@ -93,6 +93,6 @@ LoadTable read_load(const Table& t) {
 
 namespace strata::scene {
 std::string_view to_string(LoadPer v) { return tables::word_of(tables::kPer, v); }
-std::string_view to_string(LoadType v) { return tables::word_of(tables::kType, v); }
+std::string_view to_string(LoadType v) { return tables::word_of(tables::kLoadType, v); }
 std::string_view to_string(Ramp v) { return tables::word_of(tables::kRamp, v); }
 }  // namespace strata::scene
