@@ -57,3 +57,16 @@ function(strata_add_library)
           RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
   install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endfunction()
+
+# strata_unity_build(<target>): compile <target> as a unity build (its sources in batches, each
+# batch one compiler run), which parses each header once per batch instead of once per file.
+# Only for targets whose results cannot change with it: inlining across the files of a batch
+# could fuse a multiply and an add into an FMA where separate files did not, so a target
+# whose floating-point results matter bit for bit needs -ffp-contract=off (libdem,
+# preprocess); tests compute only what they compare within tolerances. A source file with
+# compile options of its own (the step kernel, for one) is compiled on its own. File-local
+# names must be unique within such a target. (The sanitizer and minimal builds of
+# scripts/test compile every target this way: CMAKE_UNITY_BUILD.)
+function(strata_unity_build target)
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON)
+endfunction()
