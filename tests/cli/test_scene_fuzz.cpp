@@ -25,7 +25,7 @@ using namespace cli_test;
 namespace {
 
 constexpr unsigned kSeed = 20261124;
-constexpr int kMutantsPerScene = 12;
+constexpr int kMutantsPerScene = 8;
 constexpr int kSecondsPerMutant = 30;  // a hang, not a slow check: checks take well under a second
 
 std::vector<std::string> lines_of(const std::string& text) {
