@@ -13,13 +13,13 @@
 #include <strata/io/plot.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <optional>
 
 #include <strata/cases/wave_report.hpp>
+#include <strata/core/clock.hpp>
 #include <strata/scene/files.hpp>
 #include <strata/scene/scene.hpp>
 
@@ -311,9 +311,9 @@ int run_plan(const ChainPlan& p, const Refuse& refuse, bool check_only, bool jso
   if (check_only) return 0;
 
   // Everything is validated: run the whole sweep, then write its files all at once.
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   const auto rows = sweep(p);
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall = seconds_since(t0);
   scene::Staging stage(p.opt.output);
   write_files(p, rows, stage.path(), wall);
   const auto written = stage.commit(p.opt.output);

@@ -6,13 +6,13 @@
 #include <unistd.h>
 
 #include <fmt/format.h>
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/scene/run.hpp>
 #include <strata/scene/scene.hpp>
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -124,7 +124,7 @@ SweepRow coupled_point(const std::string& name, const ChainModel& model, const S
   double best = INFINITY;
   std::vector<double> t, u;
   for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
-    const auto t0 = detail::Clock::now();
+    const auto t0 = WallClock::now();
     const scene::Scene sc = scene::parse(text, dir / "chain.generated.toml", {});
     scene::Run run(sc, {dir, /*force=*/false, {}});
     scene::BuiltModel& m = run.model();
@@ -133,7 +133,7 @@ SweepRow coupled_point(const std::string& name, const ChainModel& model, const S
       m.coupler().probe_fem(p.dof, "probe");
     else
       m.coupler().probe_dem(p.dof, "probe");
-    const double setup = detail::seconds_since(t0);
+    const double setup = seconds_since(t0);
     scene::RunObserver quiet;
     try {
       const scene::RunResult res = run.execute(quiet);
@@ -174,7 +174,7 @@ SweepRow monolithic_point(const std::string& name, const ChainModel& model, std:
   for (int rep = 0; rep < std::max(1, o.repeats); ++rep) {
     t.clear();
     u.clear();
-    const auto t0 = detail::Clock::now();
+    const auto t0 = WallClock::now();
     fem::Solver s = couple::monolithic_solver(model, fem::SolverSettings{.scheme = scheme, .dt = dt});
     s.initialise();
     t.push_back(0);
@@ -184,7 +184,7 @@ SweepRow monolithic_point(const std::string& name, const ChainModel& model, std:
       t.push_back(s.time());
       u.push_back(s.u()[probe_node]);
     }
-    best = std::min(best, detail::seconds_since(t0));
+    best = std::min(best, seconds_since(t0));
   }
   r.wall_s = best;
   errors_against(r, t, u, ref, o.keep_samples);

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/io/csv.hpp>
@@ -15,7 +16,6 @@
 #include <strata/scene/run.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -309,7 +309,7 @@ int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserve
   const StudyPlan plan = plan_study(st);
   const std::vector<scene::Scene> scenes = scenes_of(st, plan);
   const fs::path out = output.empty() ? st.output.directory.value : output;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   scene::Staging stage(out);
   std::vector<StudyPoint> points;
   observer.started(plan.overrides.size());
@@ -320,7 +320,7 @@ int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserve
     p.values = plan.values[k];
     p.measures.assign(st.measures.size(), kNaN);
     const scene::Scene& sc = scenes[k];
-    const auto r0 = std::chrono::steady_clock::now();
+    const auto r0 = WallClock::now();
     try {
       scene::Run run(sc, {stage.path() / "runs" / fmt::format("{:04d}", k + 1), false, {}, false});
       const scene::RunResult r = run.execute(stop);
@@ -336,7 +336,7 @@ int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserve
       p.status = fmt::format("{}: {}", e.kind() == ErrorKind::Numerical ? "blew up" : "refused",
                              detail::first_line(e.what()));
     }
-    p.wall_s = detail::seconds_since(r0);
+    p.wall_s = seconds_since(r0);
     points.push_back(std::move(p));
     observer.done(k, points.back());
     if (!stopped) stopped = observer.stop_requested();
@@ -344,8 +344,7 @@ int run_study_scene(const scene::Scene& st, const fs::path& output, StudyObserve
   const std::string status =
       stopped ? fmt::format("interrupted after {} of {} runs", points.size(), plan.overrides.size())
               : "completed";
-  const std::string md =
-      write_results(st, points, stage.path(), st.output.render, detail::seconds_since(t0), status);
+  const std::string md = write_results(st, points, stage.path(), st.output.render, seconds_since(t0), status);
   std::fwrite(md.data(), 1, md.size(), stdout);
   const auto written = stage.commit(out);
   std::printf("wrote:\n");

@@ -27,7 +27,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -37,6 +36,7 @@
 #include <optional>
 
 #include <strata/cases/chain_report.hpp>
+#include <strata/core/clock.hpp>
 #include <strata/scene/frames.hpp>
 #include <strata/scene/scene.hpp>
 
@@ -384,9 +384,9 @@ WaveModel build_wave_model(const WaveOptions& opt) {
   oo.d = opt.d;
   oo.far_size = opt.fem_far_size * opt.d;
   oo.growth = opt.fem_growth;
-  const auto t0 = detail::Clock::now();
+  const auto t0 = WallClock::now();
   m.overlap = preprocess::build_overlap(m.geometry, opt.particle_region, fem_regions, oo);
-  m.build_s = detail::seconds_since(t0);
+  m.build_s = seconds_since(t0);
   STRATA_CHECK(m.overlap.dim == 2, Input, "wave: the geometry must be 2D");
   m.d = opt.d;
   m.kn = kKn;
@@ -467,7 +467,7 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
     explicit ScopedThreads(int n) { par::set_threads(n); }
     ~ScopedThreads() { par::set_threads(before); }
   } scoped_threads(opt.threads);
-  const auto t0 = detail::Clock::now();
+  const auto t0 = WallClock::now();
   // ---- the model, built and stepped through the scene library's one run path ----
   WavePoint w;
   w.pulse = &p;
@@ -566,7 +566,7 @@ WaveRun run_wave(const WaveModel& m, const WaveOptions& opt, double lambda_d, in
   model.coupler().observe_fem(fem_gauges);
   model.coupler().observe_dem(dem_gauge);
   if (series && series->pictures) watch_crossing(m, p, r, model, steps, *series);
-  r.setup_s = detail::seconds_since(t0);
+  r.setup_s = seconds_since(t0);
   r.fem_steps = steps;
   r.dem_steps = steps * eta;
   try {

@@ -25,7 +25,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -35,6 +34,7 @@
 #include <optional>
 
 #include <strata/cases/chain_report.hpp>
+#include <strata/core/clock.hpp>
 #include <strata/scene/frames.hpp>
 #include <strata/scene/scene.hpp>
 
@@ -367,7 +367,7 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
 
   // Everything is validated: run the whole sweep into a staging folder, then move its files
   // into the output folder all at once.
-  const auto t0 = detail::Clock::now();
+  const auto t0 = WallClock::now();
   scene::Staging stage(opt.output);
   const fs::path& dir = stage.path();
   std::vector<WaveRun> rows;
@@ -465,7 +465,7 @@ int wave_sweep(const WaveOptions& in, const WaveRefuse& refuse_at, bool json_out
                   {"wavelengths_d", opt.wavelengths},
                   {"etas", opt.etas},
                   {"modes", opt.modes},
-                  {"wall_seconds", detail::seconds_since(t0)}};
+                  {"wall_seconds", seconds_since(t0)}};
   if (!opt.scene.empty()) summary["scene"] = opt.scene.string();
   json jr = json::array();
   for (const auto& r : rows)

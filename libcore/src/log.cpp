@@ -36,7 +36,7 @@ void init(Level level) {
 
 double Phases::lap(const char* phase) {
   const auto now = Clock::now();
-  const double s = std::chrono::duration<double>(now - t_).count();
+  const double s = seconds_between(t_, now);
   t_ = now;
   if (get().should_log(spdlog::level::debug))
     debug("{}: {} {:.3g} s (resident {:.2f} GB, peak {:.2f} GB)", task_, phase, s,

@@ -22,7 +22,7 @@ Progress::Progress(std::string label, std::int64_t total, std::string unit, doub
       total_(std::max<std::int64_t>(total, 1)),
       interval_s_(interval_s),
       tty_(isatty(fileno(stderr)) != 0),
-      start_(std::chrono::steady_clock::now()) {
+      start_(WallClock::now()) {
   if (tty_) interval_s_ = 0.25;
 }
 
@@ -31,7 +31,7 @@ Progress::~Progress() {
 }
 
 void Progress::report(std::int64_t done, bool final) {
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double t = seconds_since(start_);
   // Check the clock about every 50 ms of work, whatever the speed of a unit.
   const double rate = t > 0 ? done / t : 0.0;
   check_every_ = std::max<std::int64_t>(1, static_cast<std::int64_t>(rate * 0.05));

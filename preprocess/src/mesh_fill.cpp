@@ -1,12 +1,12 @@
 // Lattice sites of meshes and geometry regions, element by element (see mesh_fill.hpp).
 #include "strata/preprocess/mesh_fill.hpp"
 
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -228,7 +228,7 @@ struct Element {
 template <int Dim>
 Lattice fill_mesh_dim(const SimplexMesh& mesh, const LatticeFrame& fr, const BoundaryFilter& filter,
                       std::vector<std::size_t>* first_site, FillStats* stats) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   const std::size_t ne = mesh.cell_count();
   const double r = filter.distance, tol = 1e-9 * fr.diameter();
   const bool filtering = filter.boundary != nullptr && r > 0;
@@ -283,7 +283,7 @@ Lattice fill_mesh_dim(const SimplexMesh& mesh, const LatticeFrame& fr, const Bou
     return t;
   });
 
-  const auto t1 = std::chrono::steady_clock::now();
+  const auto t1 = WallClock::now();
   // Prefix sum, then pass 2 writes each element's sites at its offset.
   std::vector<std::size_t> offset(ne + 1, 0);
   for (std::size_t e = 0; e < ne; ++e) offset[e + 1] = offset[e] + count[e];
@@ -295,7 +295,7 @@ Lattice fill_mesh_dim(const SimplexMesh& mesh, const LatticeFrame& fr, const Bou
   l.x.resize(n);
   l.row.resize(n);
   l.layer.resize(n);
-  const auto t2 = std::chrono::steady_clock::now();
+  const auto t2 = WallClock::now();
   par::parallel_for(std::ptrdiff_t(ne), [&](std::ptrdiff_t ie) {
     const auto e = std::size_t(ie);
     Tally t;
@@ -315,17 +315,16 @@ Lattice fill_mesh_dim(const SimplexMesh& mesh, const LatticeFrame& fr, const Bou
                   offset[e + 1] - offset[e]);
   });
   {
-    const auto t3 = std::chrono::steady_clock::now();
-    auto sec = [](auto a, auto b) { return std::chrono::duration<double>(b - a).count(); };
+    const auto t3 = WallClock::now();
     log::debug("fill_mesh: {} elements, {} sites: count {:.3f} s, allocate {:.3f} s, write {:.3f} s", ne, n,
-               sec(t0, t1), sec(t1, t2), sec(t2, t3));
+               seconds_between(t0, t1), seconds_between(t1, t2), seconds_between(t2, t3));
   }
   if (first_site) *first_site = std::move(offset);
   if (stats) {
     stats->elements = ne;
     stats->candidates = tally.candidates;
     stats->exact_tests = tally.exact;
-    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats->seconds = seconds_since(t0);
   }
   return l;
 }
@@ -334,7 +333,7 @@ Lattice fill_mesh_dim(const SimplexMesh& mesh, const LatticeFrame& fr, const Bou
 /// row by row in parallel; a byte mask keeps the answers between the two passes.
 Lattice fill_surface(const GeometryRegion& region, const LatticeFrame& fr, const BoundaryFilter& filter,
                      FillStats* stats) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   const Bounds b = region.bounds();
   double lo[3] = {kInf, kInf, kInf}, hi[3] = {-kInf, -kInf, -kInf};
   for (int c = 0; c < 8; ++c) {
@@ -402,7 +401,7 @@ Lattice fill_surface(const GeometryRegion& region, const LatticeFrame& fr, const
     stats->elements = 0;
     stats->candidates = ncand;
     stats->exact_tests = 0;
-    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats->seconds = seconds_since(t0);
   }
   return l;
 }

@@ -2,6 +2,7 @@
 
 #include "model_parts.hpp"
 
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/numbers.hpp>
@@ -11,7 +12,6 @@
 #include <strata/preprocess/mesh_fill.hpp>
 #include <strata/preprocess/overlap.hpp>
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -305,7 +305,7 @@ std::vector<const Lattice*> ModelDescription::lattices() const {
 
 ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
                                 const preprocess::OverlapModel* coupled) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   const SceneTable& st = sc.scene;
   const int dim = st.dimension;
   ModelDescription d;
@@ -433,7 +433,7 @@ ModelDescription describe_model(const scene::Scene& sc, bool allow_fem,
     if (!d.sites[k].eccentric) d.sites[k].sites = std::move(filled[k].lattice());
     drop_rows(d.sites[k].sites);
   }
-  d.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  d.seconds = seconds_since(t0);
   return d;
 }
 
@@ -723,10 +723,10 @@ BuiltModel build_model(const Scene& sc, bool force) {
                "{}: a calibration ([calibrate]) builds its own specimens; run it with 'strata calibrate'",
                sc.file.string());
   require_build_parts(sc);  // `strata check` as `strata run`: a key this build cannot serve, at its line
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   if (sc.network) {
     BuiltModel m = build_network_model(sc, force);
-    m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m.build_seconds = seconds_since(t0);
     return m;
   }
   const SolverTable& solver = sc.solver;
@@ -740,7 +740,7 @@ BuiltModel build_model(const Scene& sc, bool force) {
           "settle = 0 here, or settle the particles in a scene of their own");
     BuiltModel m = build_fem_model(sc, force);  // fem_model.cpp: FEM alone or coupled
     if (m.has_particles()) setup_platens(sc, m);
-    m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    m.build_seconds = seconds_since(t0);
     return m;
   }
 
@@ -790,7 +790,7 @@ BuiltModel build_model(const Scene& sc, bool force) {
   m.steps = step_count_of(solver, m.dt, 1);
   m.settle_steps = steps_in(solver.settle, m.dt);
   setup_platens(sc, m);
-  m.build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.build_seconds = seconds_since(t0);
   return m;
 }
 

@@ -1,6 +1,7 @@
 #include <strata/scene/model_report.hpp>
 
 #include <strata/config.hpp>
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/memory.hpp>
@@ -12,7 +13,6 @@
 #include <strata/preprocess/ecc.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <map>
 
@@ -331,10 +331,10 @@ json mesh_report(const Scene& sc, const fs::path& output) {
   require_build_parts(sc, SceneUse::Model);  // a geometry file or FEM region this build cannot mesh
   // The model as a description only (never a dem::Simulation): regions filled, FEM regions
   // meshed, bonds counted on a cell grid by length class (regular regions; never stored).
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   const ModelDescription d = describe_model(sc, /*allow_fem=*/true);
   const preprocess::PairCounts bonds = count_bonds(d);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds = seconds_since(t0);
   json j = description_json(d, sc, bonds.pairs);
   j["seconds"] = seconds;
   j["particles_per_s"] = seconds > 0 ? double(d.particle_count()) / seconds : 0.0;

@@ -3,13 +3,13 @@
 #include <signal.h>
 #include <string.h>
 #include <strata/config.hpp>
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/parallel.hpp>
 #include <strata/scene/model_report.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 
 #include "cadence.hpp"
@@ -22,9 +22,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// The next chunk of steps between two looks at the observer: about 0.25 s of stepping,
 /// from the `took` seconds the last `n` steps took (chunk: the last chunk's size).
@@ -108,7 +105,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
                 first, steps);
   }
 
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   log::Phases ph("run");     // strata -v: the time and memory of the steps and of the checkpoint
   std::int64_t settled = 0;  // settling steps of this execution (in the step rate)
   auto finish_result = [&] {
@@ -139,7 +136,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
         return finish_result();
       }
       const std::int64_t n = std::min(chunk, m.settle_steps - settled);
-      const auto c0 = std::chrono::steady_clock::now();
+      const auto c0 = WallClock::now();
       m.sim().settle(n);
       settled += n;
       const double took = seconds_since(c0);
@@ -190,7 +187,7 @@ RunResult Run::Impl::execute(RunObserver& observer) {
         write_checkpoint(dir, m, fingerprint, out, frame_breaks, wall());
       const std::int64_t to =
           std::min({cad.next_probe(s), cad.next_frame(s), cad.next_checkpoint(s), steps, s + max_chunk});
-      const auto c0 = std::chrono::steady_clock::now();
+      const auto c0 = WallClock::now();
       m.advance((to - s) * q);
       const double took = seconds_since(c0);
       if (to - s == max_chunk || took > 0.25) max_chunk = next_chunk(to - s, took, max_chunk);

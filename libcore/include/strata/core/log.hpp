@@ -1,8 +1,8 @@
 #pragma once
 /// Logging through spdlog: one logger named "strata" writing to stderr.
 #include <spdlog/spdlog.h>
+#include <strata/core/clock.hpp>
 
-#include <chrono>
 #include <string>
 
 namespace strata::log {
@@ -44,7 +44,7 @@ class Phases {
   double lap(const char* phase);
 
  private:
-  using Clock = std::chrono::steady_clock;
+  using Clock = WallClock;
   std::string task_;
   Clock::time_point t_;
 };

@@ -1,7 +1,8 @@
 #pragma once
 /// Progress of long runs: a live line with rate and ETA on a terminal, plain periodic lines
 /// (every `interval` seconds) when stderr is not a terminal.
-#include <chrono>
+#include <strata/core/clock.hpp>
+
 #include <cstdint>
 #include <string>
 
@@ -27,7 +28,7 @@ class Progress {
   std::int64_t total_, next_check_ = 0, check_every_ = 1;
   double interval_s_, last_print_s_ = 0.0;
   bool tty_, finished_ = false;
-  std::chrono::steady_clock::time_point start_;
+  WallClock::time_point start_;
 };
 
 /// "1 h 02 min", "3.4 s": human-readable duration.
