@@ -1,5 +1,5 @@
 #pragma once
-// Helpers shared by the DEM tests: C1 parameters and block builders.
+// Helpers shared by the DEM tests: the uniaxial-compression rock's parameters and block builders.
 #include <strata/core/error.hpp>
 #include <strata/dem/presets.hpp>
 #include <strata/dem/simulation.hpp>

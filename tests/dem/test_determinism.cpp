@@ -18,7 +18,7 @@ struct Outcome {
   std::vector<BreakEvent> breaks;
 };
 
-// A C1-like block compressed fast enough to break bonds within a few thousand steps,
+// A block of the uniaxial-compression rock compressed fast enough to break bonds within a few thousand steps,
 // with contact detection and viscous damping; enough particles for several thread ranges.
 Outcome run(int dim, int threads, int chunks = 1, bool ecc = false) {
   par::set_threads(threads);

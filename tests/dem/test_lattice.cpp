@@ -148,7 +148,7 @@ TEST(Lattice, HexLambdaFormulaMatchesBrillouinZoneScan) {
     EXPECT_LE(best, refined * (1 + 1e-12));
     EXPECT_GE(best, refined * (1 - 1e-3));
   }
-  // For C1 (Kn >= 2Ks) the maximum is the M point: (6Kn+2Ks)/m; for Kn = Ks it
+  // For the uniaxial-compression rock (Kn >= 2Ks) the maximum is the M point: (6Kn+2Ks)/m; for Kn = Ks it
   // is the K point, 9Kn/m, above 6Kn+2Ks = 8Kn: the formula (6Kn+2Ks)/m holds only for Kn >~ 2Ks.
   EXPECT_NEAR(hex_lattice_lambda_max(6.587e10, 2.371e10, 1.0) / (6 * 6.587e10 + 2 * 2.371e10), 1.0, 1e-12);
   EXPECT_NEAR(hex_lattice_lambda_max(1.0, 1.0, 1.0), 9.0, 1e-12);

@@ -19,7 +19,7 @@ namespace {
 constexpr int kRows = 12, kColumns = 20;
 constexpr double kG = 1e4;  // m/s²: a strong gravity, so that the settlement stands far above round-off
 
-// A kRows × kColumns block of unbreakable C1 rock on a frictionless base, its sides free: the
+// A kRows × kColumns block of unbreakable uniaxial-compression rock on a frictionless base, its sides free: the
 // bottom row ("base") is prescribed in y only, to rise at 1 mm/s once loading starts (until
 // then it waits, held where it is), and a wall beside the block moves towards it.
 Simulation settling_block() {

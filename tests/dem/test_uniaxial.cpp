@@ -20,8 +20,8 @@ struct Curve {
   std::vector<BreakEvent> breaks;
 };
 
-// The 1033-disk C1 specimen between frictionless platens (top and bottom rows move along y
-// at ±v, free along x), C1 micro-parameters and damping, dt = 0.5·dt_crit. The loading is
+// The 1033-disk uniaxial-compression specimen between frictionless platens (top and bottom rows move along y
+// at ±v, free along x), its micro-parameters and damping, dt = 0.5·dt_crit. The loading is
 // faster than the paper's (v = 0.0125 m/s instead of 2.4e-4 m/s) but still quasi-static:
 // the time to the peak is about 400 wave transits of the specimen.
 Curve compress(bool strengthen, std::int64_t steps) {
