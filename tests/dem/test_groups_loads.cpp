@@ -59,9 +59,13 @@ TEST(DemGroups, AnyNumberOfGroupsKeepTheirMembers) {
     // the last-made group of a particle is its row (rows were made after the single ones)
     EXPECT_EQ(last[i], 1 + int(n) + row_of[ids[i]]);
     EXPECT_EQ(in_row0_or_p5[i], row0 || ids[i] == 5 ? 1 : 0);
-    if (ids[i] == held) EXPECT_EQ(std::hypot(u[i][0], u[i][1]), 0.0);
+    if (ids[i] == held) {
+      EXPECT_EQ(std::hypot(u[i][0], u[i][1]), 0.0);
+    }
     // x += v·dt each step with v held: exact up to one rounding of x (~1e-2 m, 2e-18 m) a step
-    if (row0) EXPECT_NEAR(u[i][1], -50 * sim.dt(), 51 * 2e-18);
+    if (row0) {
+      EXPECT_NEAR(u[i][1], -50 * sim.dt(), 51 * 2e-18);
+    }
   }
   EXPECT_THROW(sim.group_members("nothing"), Error);
 }
@@ -131,7 +135,9 @@ TEST(DemLoads, RadialLoadIn3DIsNormalToTheBoreholeAxis) {
       }
       const double len = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
       for (int a = 0; a < 3; ++a) EXPECT_NEAR(v[i][a], 10.0 * 0.5 * r[a] / len, 1e-12) << i << " axis " << a;
-      if (with_axis) EXPECT_NEAR(v[i][1] + v[i][2], 0.0, 1e-12) << "no push along the axis";
+      if (with_axis) {
+        EXPECT_NEAR(v[i][1] + v[i][2], 0.0, 1e-12) << "no push along the axis";
+      }
     }
   }
 }

@@ -157,7 +157,11 @@ TEST(ShearStrain, LocalisesInAShearBand) {
   const auto g = shear_strain_2d(start, now, 1.5);
   for (std::size_t i = 0; i < start.size(); ++i) {
     const double y = start[i][1];
-    if (y > 11.5 && y < 13.5) EXPECT_NEAR(g[i], 2 * std::asinh(0.25), 1e-12) << y;
-    if (y < 8.5 || y > 16.5) EXPECT_NEAR(g[i], 0.0, 1e-12) << y;
+    if (y > 11.5 && y < 13.5) {
+      EXPECT_NEAR(g[i], 2 * std::asinh(0.25), 1e-12) << y;
+    }
+    if (y < 8.5 || y > 16.5) {
+      EXPECT_NEAR(g[i], 0.0, 1e-12) << y;
+    }
   }
 }

@@ -1,0 +1,14 @@
+// The broken-bond form of the bond pass for every built-in law (broken_spans.hpp), compiled
+// with the compiler's own choice of loads, apart from the rest of the step kernel (step.cpp).
+#include "broken_spans.hpp"
+
+#include <type_traits>
+
+namespace strata::dem::detail {
+
+static_assert(std::is_same_v<BuiltinLaws, LawList<SolidLatticeLaw>>,
+              "every law of BuiltinLaws has its row in STRATA_BROKEN_SPANS (broken_spans.hpp)");
+
+STRATA_BROKEN_SPANS(STRATA_DEFINE_BROKEN_SPAN)
+
+}  // namespace strata::dem::detail
