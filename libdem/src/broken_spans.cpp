@@ -6,8 +6,10 @@
 
 namespace strata::dem::detail {
 
+// The laws of STRATA_BROKEN_SPANS: a law added to BuiltinLaws gets its row there and here
+// (a law without a batch form has no broken-bond form to compile: list it here only).
 static_assert(std::is_same_v<BuiltinLaws, LawList<SolidLatticeLaw>>,
-              "every law of BuiltinLaws has its row in STRATA_BROKEN_SPANS (broken_spans.hpp)");
+              "a law added to BuiltinLaws needs its row in STRATA_BROKEN_SPANS (broken_spans.hpp) and here");
 
 STRATA_BROKEN_SPANS(STRATA_DEFINE_BROKEN_SPAN)
 
