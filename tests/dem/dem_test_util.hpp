@@ -11,14 +11,14 @@
 namespace strata::dem::test {
 
 /// Micro-parameters of the rock of Liu, Pollard & Shi (2013).
-inline Material c1_material(bool breakable = true) {
+inline Material rock_material(bool breakable = true) {
   Material m = liu2013_rock();
   if (!breakable) m.tensile_strength = m.shear_strength = std::numeric_limits<double>::infinity();
   return m;
 }
-inline constexpr double kC1d = 1e-3;
+inline constexpr double kRockD = 1e-3;
 /// m = ρ·(√3/2)·d² (the hexagonal cell area times the density per unit thickness)
-inline double c1_mass() { return 2.65e3 * std::sqrt(3.0) / 2 * kC1d * kC1d; }
+inline double rock_mass() { return 2.65e3 * std::sqrt(3.0) / 2 * kRockD * kRockD; }
 
 /// Adds the lattice's sites to the simulation (ids = lattice indices).
 inline void add_lattice(Simulation& sim, const preprocess::Lattice& lat, int mat) {
@@ -28,10 +28,10 @@ inline void add_lattice(Simulation& sim, const preprocess::Lattice& lat, int mat
 
 /// The 1033-disk specimen of the uniaxial-compression example (35 rows of 30 and 29 disks of
 /// 1 mm), bonded where disks touch; not initialised yet.
-inline Simulation c1_specimen(Settings settings) {
-  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
+inline Simulation uniaxial_specimen(Settings settings) {
+  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kRockD);
   Simulation sim(2, settings);
-  add_lattice(sim, lat, sim.add_material(c1_material()));
+  add_lattice(sim, lat, sim.add_material(rock_material()));
   sim.bond_touching_pairs();
   return sim;
 }

@@ -11,8 +11,8 @@ using namespace strata::dem::test;
 namespace ps = strata::dem::pair_state;
 
 namespace {
-SolidLatticeLaw c1_law(bool strengthen) {
-  const Material m = c1_material();
+SolidLatticeLaw rock_law(bool strengthen) {
+  const Material m = rock_material();
   return {m.kn, m.ks, m.friction, m.tensile_strength, m.shear_strength, strengthen};
 }
 }  // namespace
@@ -22,7 +22,7 @@ TEST(BondLaw, TensionBreaksExactlyAtFnMax) {
   // criterion is Fn < -Fn_max); one ulp beyond it breaks. Exact comparisons: the law does
   // one multiplication.
   for (bool strengthen : {false, true}) {
-    const SolidLatticeLaw law = c1_law(strengthen);
+    const SolidLatticeLaw law = rock_law(strengthen);
     std::uint8_t st = ps::kIntact;
     double us = 0, dus = 0;
     const double un_at = -law.fn_max / law.kn;
@@ -41,7 +41,7 @@ TEST(BondLaw, TensionBreaksExactlyAtFnMax) {
 TEST(BondLaw, ShearBreaksAtFs0PaperForm) {
   // default (paper) form: intact limit Fs0 regardless of Fn. Load Un so Fn = 1e5 N
   // (mu·Fn = 2.39e4 would matter for the other form), then shear in small increments.
-  const SolidLatticeLaw law = c1_law(false);
+  const SolidLatticeLaw law = rock_law(false);
   std::uint8_t st = ps::kIntact;
   double us = 0;
   const double un = 1e5 / law.kn;
@@ -62,7 +62,7 @@ TEST(BondLaw, ShearBreaksAtFs0PaperForm) {
 }
 
 TEST(BondLaw, ShearBreaksAtFs0PlusMuFnWhenFrictionStrengthens) {
-  const SolidLatticeLaw law = c1_law(true);
+  const SolidLatticeLaw law = rock_law(true);
   std::uint8_t st = ps::kIntact;
   double us = 0;
   const double fn = 1e5;
@@ -85,7 +85,7 @@ TEST(BondLaw, ShearBreaksAtFs0PlusMuFnWhenFrictionStrengthens) {
 }
 
 TEST(BondLaw, BrokenContactFrictionCapSeparationAndReclosing) {
-  const SolidLatticeLaw law = c1_law(false);
+  const SolidLatticeLaw law = rock_law(false);
   std::uint8_t st = ps::kBrokenShear | ps::kTouching;
   double us = 0;
   const double un = 2e-7, fn = law.kn * un;
@@ -119,7 +119,7 @@ TEST(BondLaw, BrokenContactFrictionCapSeparationAndReclosing) {
 
 TEST(BondLaw, ThreeDimensionalShearVector) {
   // 3D: |Us| is what breaks; two orthogonal components reaching Fs0 together.
-  const SolidLatticeLaw law = c1_law(false);
+  const SolidLatticeLaw law = rock_law(false);
   std::uint8_t st = ps::kIntact;
   double us[3] = {0, 0, 0};
   const double c = law.fs0 / law.ks / std::sqrt(2.0) / 100;
@@ -133,7 +133,7 @@ TEST(BondLaw, ThreeDimensionalShearVector) {
 TEST(BondLaw, PairInSimulationBreaksInTensionAtPredictedStep) {
   // Two disks, the left fixed, the right pulled at constant velocity V: Un = -V·dt·k after
   // k steps, so the bond breaks at the first k with Kn·V·dt·k > Fn_max. Within one step.
-  const Material m = c1_material();
+  const Material m = rock_material();
   const double dt = 1e-8, V = 0.5;
   Simulation sim = pulled_pair(m, Settings{.dt = dt, .contact_detection = true}, V);
   sim.bond_touching_pairs();

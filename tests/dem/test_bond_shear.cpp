@@ -20,7 +20,7 @@ using Shear3 = strata::dem::detail::BondShear<3>;
 TEST(BondShear, TheStepIsThePowerOfTwoThatSpansTwiceTheReach) {
   // 2^30 steps span between 2 and 4 times the reach: Fs0/Ks of the rock of Liu, Pollard &
   // Shi 2013 (1.556e-6 m) gives 2^-48 m = 3.55e-15 m.
-  const Material m = c1_material();
+  const Material m = rock_material();
   const double reach = m.shear_strength / m.ks;
   const double unit = Shear2::unit_for(reach);
   EXPECT_EQ(unit, std::ldexp(1.0, -48));

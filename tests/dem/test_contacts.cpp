@@ -17,7 +17,7 @@ void gas(int dim) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(-1, 1), ur(0.4e-3, 0.6e-3);
   // soft contacts (Kn = 1e7 N/m) so a collision lasts many steps and probes see overlaps
-  Material m = c1_material();
+  Material m = rock_material();
   m.kn = 1e7;
   m.ks = 4e6;
   Simulation sim(dim, Settings{.dt = 1e-12});
@@ -66,7 +66,7 @@ void candidates_with_the_bonds(int dim) {
   std::uniform_real_distribution<double> ur(0.45e-3, 0.55e-3), jitter(-0.05e-3, 0.05e-3);
   auto build = [&](Simulation& sim) {
     rng.seed(11);
-    const int mat = sim.add_material(c1_material());
+    const int mat = sim.add_material(rock_material());
     const int n1 = dim == 2 ? 40 : 12;
     const double sp = 1.05e-3;  // some neighbours touch (bonds), others lie within the skin
     for (int k = 0; k < (dim == 3 ? n1 : 1); ++k)

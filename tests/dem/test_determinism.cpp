@@ -22,15 +22,15 @@ struct Outcome {
 // with contact detection and viscous damping; enough particles for several thread ranges.
 Outcome run(int dim, int threads, int chunks = 1, bool ecc = false) {
   par::set_threads(threads);
-  preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(44, 40, kC1d)
+  preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(44, 40, kRockD)
                                      : preprocess::close_packed_box(preprocess::Packing::FCC, {0, 0, 0},
-                                                                    {12e-3, 12e-3, 12e-3}, kC1d);
+                                                                    {12e-3, 12e-3, 12e-3}, kRockD);
   Simulation sim(dim, Settings{.dt = 1e-12,
                                .damping = Settings::Damping::Viscous,
                                .viscous_c = 1.16e3,
                                .energy_check_every = 100,
                                .min_particles_per_thread = 1});
-  add_lattice(sim, lat, sim.add_material(c1_material()));
+  add_lattice(sim, lat, sim.add_material(rock_material()));
   sim.add_to_group(preprocess::top_row(lat), "top");
   sim.add_to_group(preprocess::bottom_row(lat), "bottom");
   const unsigned ax = dim == 2 ? kY : kZ;
@@ -90,7 +90,7 @@ TEST(Determinism, TimeStepBoundAndEstimateSameFor1To3Threads) {
   // The rigorous bound and the Lanczos estimate are formed in parallel over chunks of 1024
   // particles, with the sums of a serial pass: the same bits for any thread count. An
   // eccentric block of 5 chunks, bonds given as data (stiffness factors, rest lengths).
-  const auto lat = preprocess::hex2d_rows(80, 64, kC1d);
+  const auto lat = preprocess::hex2d_rows(80, 64, kRockD);
   const auto e = preprocess::make_eccentric(
       lat, {.type = preprocess::Eccentricity::Cube, .ra = 0.5, .rc = 0.6, .gamma = 0.3, .seed = 5});
   std::vector<double> f(e.bonds.stiffness_factor.begin(), e.bonds.stiffness_factor.end());
@@ -98,7 +98,7 @@ TEST(Determinism, TimeStepBoundAndEstimateSameFor1To3Threads) {
   for (int threads : {1, 2, 3}) {
     par::set_threads(threads);
     Simulation sim(2, Settings{.dt = 1e-12, .min_particles_per_thread = 1});
-    add_lattice(sim, e.lattice, sim.add_material(c1_material()));
+    add_lattice(sim, e.lattice, sim.add_material(rock_material()));
     sim.set_bonds(e.bonds.i, e.bonds.j, f);
     sim.initialise();
     got.push_back({sim.lambda_bound(), sim.lambda_estimate()});

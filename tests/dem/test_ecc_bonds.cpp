@@ -15,8 +15,8 @@ using namespace strata::dem::test;
 namespace {
 preprocess::Lattice block(int dim) {
   return dim == 2
-             ? preprocess::hex2d_rows(16, 16, kC1d)
-             : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {6e-3, 6e-3, 6e-3}, kC1d);
+             ? preprocess::hex2d_rows(16, 16, kRockD)
+             : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {6e-3, 6e-3, 6e-3}, kRockD);
 }
 
 void set_bonds(Simulation& sim, const preprocess::BondList& b) {
@@ -34,7 +34,7 @@ TEST(EccBonds, EccentricLatticeStartsAtRest) {
         {.type = preprocess::Eccentricity::Sphere, .ra = 0.9, .rc = 0.5, .gamma = 0.001, .seed = 7});
     ASSERT_GT(ecc.bonds.weakened(), 0u);
     Simulation sim(dim, Settings{.dt = 1e-9, .contact_detection = false});
-    add_lattice(sim, ecc.lattice, sim.add_material(c1_material(false)));
+    add_lattice(sim, ecc.lattice, sim.add_material(rock_material(false)));
     set_bonds(sim, ecc.bonds);
     EXPECT_EQ(sim.bond_count(), ecc.bonds.size());
     sim.initialise();
@@ -55,14 +55,14 @@ TEST(EccBonds, StiffnessFactorScalesTimeByItsSquareRoot) {
     double base_dt = 0;  // 0.3 dt_crit of the first run
     auto run = [&](double factor, double dt_scale, double& dt_crit) {
       Simulation sim(dim, Settings{.dt = 1e-15, .contact_detection = false});
-      add_lattice(sim, lat, sim.add_material(c1_material(false)));
+      add_lattice(sim, lat, sim.add_material(rock_material(false)));
       sim.set_bonds(bonds.i, bonds.j, std::vector<double>(bonds.size(), factor));
       sim.initialise();
       dt_crit = sim.critical_dt();
       if (base_dt == 0) base_dt = 0.3 * dt_crit;
       sim.set_dt(dt_scale * base_dt);
       // the same smooth velocity field, scaled by √factor
-      const double s = std::sqrt(factor), vs = 0.05 * kC1d / (300 * base_dt);
+      const double s = std::sqrt(factor), vs = 0.05 * kRockD / (300 * base_dt);
       for (std::size_t i = 0; i < lat.size(); ++i) {
         const auto& p = lat.x[i];
         sim.set_velocity(i, {s * vs * std::sin(p[1] * 300.0), s * vs * 0.6 * std::cos(p[0] * 200.0),
@@ -96,14 +96,14 @@ TEST(EccBonds, StiffnessFactorScalesTimeByItsSquareRoot) {
 // block where the iteration misses those pairs.)
 TEST(EccBonds, StiffPairsInASoftNetworkSetTheStep) {
   const auto lat =
-      preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {1e-2, 1e-2, 1e-2}, kC1d);
+      preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {1e-2, 1e-2, 1e-2}, kRockD);
   const auto ecc = preprocess::make_eccentric(
       lat, {.type = preprocess::Eccentricity::Sphere, .ra = 0.3, .rc = 0.6, .gamma = 0.001, .seed = 2});
   ASSERT_GT(ecc.bonds.weakened(), ecc.bonds.size() / 2);
   ASSERT_LT(ecc.bonds.weakened(), ecc.bonds.size());
   Simulation sim(3, Settings{.dt = 1e-15, .contact_detection = false});
   const double m = 1e-6;  // kg
-  Material mat = c1_material(false);
+  Material mat = rock_material(false);
   mat.ks = 0;
   const int id = sim.add_material(mat);
   for (const auto& p : ecc.lattice.x) sim.add_particle(p, ecc.lattice.radius, id, m);
@@ -126,7 +126,7 @@ TEST(EccBonds, StiffPairsInASoftNetworkSetTheStep) {
 TEST(EccBonds, BadBondListsAreRefused) {
   const auto lat = block(2);
   Simulation sim(2, Settings{.dt = 1e-9});
-  add_lattice(sim, lat, sim.add_material(c1_material(false)));
+  add_lattice(sim, lat, sim.add_material(rock_material(false)));
   EXPECT_THROW(sim.set_bonds({0, 1}, {1}), Error);          // counts differ
   EXPECT_THROW(sim.set_bonds({0}, {0}), Error);             // self bond
   EXPECT_THROW(sim.set_bonds({0}, {1}, {1.5}), Error);      // factor > 1
@@ -139,7 +139,7 @@ TEST(EccBonds, BadBondListsAreRefused) {
 // constant speed break apart when the bond's tension Kn·δ first exceeds s·Fn_max, i.e. at
 // the stretch s·Fn_max/Kn (to within one step of stretch), for s below and above 1.
 TEST(EccBonds, StrengthFactorScalesTheBreakingStretch) {
-  const Material m = c1_material(true);
+  const Material m = rock_material(true);
   for (const double s : {0.4, 1.0, 1.7}) {
     const double v = 0.05;  // m/s: 5e-11 m of stretch per step
     Simulation sim = pulled_pair(m, Settings{.dt = 1e-9, .contact_detection = false}, v);

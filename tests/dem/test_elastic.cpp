@@ -41,7 +41,7 @@ double slope(const std::vector<double>& x, const std::vector<double>& u) {
 // least-squares fit of the displacements of the interior particles (middle half of the
 // block in every direction), away from the platens and the free sides.
 Measured measure(int dim, const preprocess::Lattice& lat, double cross_section) {
-  const Material m = c1_material(false);
+  const Material m = rock_material(false);
   Simulation sim(
       dim,
       Settings{
@@ -102,7 +102,7 @@ Measured measure(int dim, const preprocess::Lattice& lat, double cross_section) 
       for (int a = 0; a < dim; ++a) virial[a] += w * b.force_on_i[a] * (x[b.j][a] - x[b.i][a]);
   }
   // compression positive: the bond pushes i away from j, force_on_i·l < 0
-  const double cell = dim == 2 ? std::sqrt(3.0) / 2 * kC1d * kC1d : std::pow(kC1d, 3) / std::sqrt(2.0);
+  const double cell = dim == 2 ? std::sqrt(3.0) / 2 * kRockD * kRockD : std::pow(kRockD, 3) / std::sqrt(2.0);
   double sig[3];
   for (int a = 0; a < dim; ++a) sig[a] = -virial[a] / (static_cast<double>(n_inside) * cell);
   const double platen = sim.group_force("top")[ax] / cross_section;
@@ -125,8 +125,8 @@ TEST(Elastic, HexBlockMatchesLatticeConstants) {
   const double kn = 6.587e10, ks = 2.371e10;
   const auto [E, nu] = dem::hex_elastic(kn, ks);
   const int rows = 60, cols = 60;
-  const auto lat = preprocess::hex2d_rows(rows, cols, kC1d);
-  const Measured r = measure(2, lat, cols * kC1d);  // width per row: cols·d
+  const auto lat = preprocess::hex2d_rows(rows, cols, kRockD);
+  const Measured r = measure(2, lat, cols * kRockD);  // width per row: cols·d
   // The finite block's free edges leave a small lateral stress in the interior (measured
   // 0.2 % of the axial one, the 1/n surface effect): with the interior stresses and strains
   // of an isotropic 2D solid, ε_a = (σ_a - ν σ_l)/E and ε_l = (σ_l - ν σ_a)/E, so
@@ -146,7 +146,7 @@ TEST(Elastic, HcpBlockAlongCAxisMatchesLatticeConstants) {
   // 20 x 20 x 20 mm block (~9000 spheres), interior stress (bond virial) and strains
   // (middle half of the block): within 3 % (the remaining 1/n surface effect: a 14 mm
   // block gives ν 4 % low; the lateral interior stress is 0.3 % of the axial one).
-  const double kn = 6.587e10, ks = 2.371e10, d = kC1d;
+  const double kn = 6.587e10, ks = 2.371e10, d = kRockD;
   const auto [E, nu] = dem::close_packed_stacking_axis_elastic(kn, ks, d);
   const auto lat =
       preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {20e-3, 20e-3, 20e-3}, d);

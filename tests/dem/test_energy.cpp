@@ -18,11 +18,11 @@ struct Drift {
 // shear mode) excites the lattice; no damping, no contacts. Returns the largest deviation
 // of KE + Eb - W from its value at the first probe, relative to that value.
 Drift run_block(int dim, double dt_factor, bool with_platens, std::int64_t steps, std::int64_t chunk) {
-  preprocess::Lattice lat =
-      dim == 2 ? preprocess::hex2d_rows(20, 20, kC1d)
-               : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {8e-3, 8e-3, 8e-3}, kC1d);
+  preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(20, 20, kRockD)
+                                     : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
+                                                                    {8e-3, 8e-3, 8e-3}, kRockD);
   Simulation sim(dim, Settings{.dt = 1e-12, .contact_detection = false, .energy_check_every = 500});
-  add_lattice(sim, lat, sim.add_material(c1_material(false)));
+  add_lattice(sim, lat, sim.add_material(rock_material(false)));
   for (std::size_t i = 0; i < lat.size(); ++i) {
     const auto& p = lat.x[i];
     sim.set_velocity(i, {0.05 * std::sin(p[1] * 300.0), 0.03 * std::cos(p[0] * 200.0),
@@ -77,11 +77,11 @@ TEST(Energy, WorkOfMovingPlatenBalancesStoredEnergy) {
 TEST(Energy, BlowUpIsDetected) {
   // dt = 1.5·dt_crit with allow_unstable: the highest mode grows; the energy check must
   // stop the run with a Numerical error naming the step.
-  const auto lat = preprocess::hex2d_rows(12, 12, kC1d);
+  const auto lat = preprocess::hex2d_rows(12, 12, kRockD);
   Simulation sim(
       2,
       Settings{.dt = 1e-12, .allow_unstable = true, .contact_detection = false, .energy_check_every = 100});
-  add_lattice(sim, lat, sim.add_material(c1_material(false)));
+  add_lattice(sim, lat, sim.add_material(rock_material(false)));
   for (std::size_t i = 0; i < lat.size(); ++i) sim.set_velocity(i, {1e-3 * ((i % 2) ? 1 : -1), 0, 0});
   sim.bond_touching_pairs();
   sim.initialise();
@@ -101,13 +101,13 @@ namespace {
 /// dt = factor·dt_crit with viscous damping of `c` (N·s/m). Returns the step at which the
 /// run stopped with a Numerical error, or -1 when it ran `steps` steps.
 std::int64_t squeezed_block_stops_at(double factor, double c, std::int64_t steps) {
-  const auto lat = preprocess::hex2d_rows(16, 16, kC1d);
+  const auto lat = preprocess::hex2d_rows(16, 16, kRockD);
   Simulation sim(2, Settings{.dt = 1e-12,
                              .allow_unstable = true,
                              .damping = Settings::Damping::Viscous,
                              .viscous_c = c,
                              .contact_detection = true});
-  add_lattice(sim, lat, sim.add_material(c1_material(true)));
+  add_lattice(sim, lat, sim.add_material(rock_material(true)));
   sim.add_to_group(preprocess::top_row(lat), "top");
   sim.add_to_group(preprocess::bottom_row(lat), "bottom");
   sim.prescribe_velocity("top", {0, -0.05, 0}, kY);
@@ -153,15 +153,15 @@ TEST(Energy, StiffWallLimitsTheCriticalStep) {
   // A penalty wall of stiffness k adds k·n nᵀ to a touching particle's stiffness, so
   // λmax grows by up to k/m: dt_crit <= 2/√(k/m). Stepping at the lattice's own limit with
   // such a wall pressed into the block would blow up; at the new limit it runs.
-  const auto lat = preprocess::hex2d_rows(10, 10, kC1d);
+  const auto lat = preprocess::hex2d_rows(10, 10, kRockD);
   auto make = [&](double kwall) {
     auto sim = std::make_unique<Simulation>(2, Settings{.dt = 1e-12, .contact_detection = true});
-    add_lattice(*sim, lat, sim->add_material(c1_material(false)));
+    add_lattice(*sim, lat, sim->add_material(rock_material(false)));
     sim->bond_touching_pairs();
     if (kwall > 0) {
       double ymax = -1e9;
       for (const auto& x : lat.x) ymax = std::max(ymax, x[1]);
-      sim->add_wall({0, ymax + 0.5 * kC1d - 1e-6, 0}, {0, -1, 0}, {0, -0.5, 0}, kwall);
+      sim->add_wall({0, ymax + 0.5 * kRockD - 1e-6, 0}, {0, -1, 0}, {0, -0.5, 0}, kwall);
     }
     sim->initialise();
     return sim;
@@ -169,7 +169,7 @@ TEST(Energy, StiffWallLimitsTheCriticalStep) {
   const double kwall = 1e3 * 6.587e10;  // a thousand times the bonds' Kn
   const double plain = make(0)->critical_dt();
   auto walled = make(kwall);
-  EXPECT_LE(walled->critical_dt(), 2 / std::sqrt(kwall / c1_mass()) * (1 + 1e-12));
+  EXPECT_LE(walled->critical_dt(), 2 / std::sqrt(kwall / rock_mass()) * (1 + 1e-12));
   EXPECT_LT(walled->critical_dt(), 0.1 * plain);
   walled->set_dt(0.9 * walled->critical_dt());
   EXPECT_NO_THROW(walled->run(3000));

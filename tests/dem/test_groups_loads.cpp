@@ -19,9 +19,9 @@ using namespace strata::dem::test;
 // whole block in one more: 157 groups. Each keeps its members, in_groups and last_group
 // see them, and boundary conditions on the 132nd group and on a row act on their particles.
 TEST(DemGroups, AnyNumberOfGroupsKeepTheirMembers) {
-  const preprocess::Lattice lat = preprocess::hex2d_rows(12, 12, kC1d, 0, 0, false);
+  const preprocess::Lattice lat = preprocess::hex2d_rows(12, 12, kRockD, 0, 0, false);
   Simulation sim(2, Settings{.dt = 1e-9, .contact_detection = false});
-  add_lattice(sim, lat, sim.add_material(c1_material(false)));
+  add_lattice(sim, lat, sim.add_material(rock_material(false)));
   const auto n = static_cast<std::uint32_t>(lat.size());
   std::vector<std::uint32_t> all(n);
   for (std::uint32_t i = 0; i < n; ++i) all[i] = i;
@@ -30,7 +30,7 @@ TEST(DemGroups, AnyNumberOfGroupsKeepTheirMembers) {
   std::vector<int> row_of(n);
   for (int r = 0; r < 12; ++r) {
     std::vector<std::uint32_t> row;
-    const double y = lat.x[0][1] + r * kC1d * std::sqrt(3.0) / 2;
+    const double y = lat.x[0][1] + r * kRockD * std::sqrt(3.0) / 2;
     for (std::uint32_t i = 0; i < n; ++i)
       if (std::abs(lat.x[i][1] - y) < 1e-9) row.push_back(i), row_of[i] = r;
     ASSERT_EQ(row.size(), 12u);
@@ -74,7 +74,7 @@ namespace {
 // Particles far apart (no bonds, no contacts): after one step each moves with v = F·dt/m.
 Simulation loose_particles(int dim, const std::vector<std::array<double, 3>>& at) {
   Simulation sim(dim, Settings{.dt = 1e-6, .contact_detection = false});
-  const int mat = sim.add_material(c1_material(false));
+  const int mat = sim.add_material(rock_material(false));
   std::vector<std::uint32_t> ids;
   for (const auto& x : at) ids.push_back(static_cast<std::uint32_t>(sim.add_particle(x, 0.5e-3, mat, 1.0)));
   sim.add_to_group(ids, "rim");

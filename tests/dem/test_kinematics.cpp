@@ -11,9 +11,9 @@ using namespace strata::dem;
 using namespace strata::dem::test;
 
 TEST(DemKinematics, DrivenParticleFollowsGivenMotionAndLoadsItsBonds) {
-  const preprocess::Lattice lat = preprocess::hex2d_rows(6, 6, kC1d);
+  const preprocess::Lattice lat = preprocess::hex2d_rows(6, 6, kRockD);
   Simulation sim(2, Settings{.dt = 1e-9, .contact_detection = false});
-  add_lattice(sim, lat, sim.add_material(c1_material(false)));
+  add_lattice(sim, lat, sim.add_material(rock_material(false)));
   sim.add_to_group({0}, "driven");
   sim.drive("driven", kXY);
   sim.bond_touching_pairs();

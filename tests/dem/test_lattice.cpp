@@ -18,7 +18,7 @@ using namespace strata::dem::test;
 TEST(Lattice, C1SpecimenHas1033DisksIn35Rows) {
   // The specimen of Li, Yin, Liu & Cai 2017: 30.0 x 30.5 mm box, d = 1 mm -> 1033 disks, 35 rows alternating
   // 30 and 29.
-  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
+  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kRockD);
   EXPECT_EQ(lat.size(), 1033u);
   std::map<int, int> per_row;
   for (auto r : lat.row) per_row[r]++;
@@ -29,7 +29,7 @@ TEST(Lattice, C1SpecimenHas1033DisksIn35Rows) {
   EXPECT_EQ(preprocess::left_column(lat).size(), 35u);
   EXPECT_EQ(preprocess::right_column(lat).size(), 35u);
   // the rows x columns form gives the same block
-  const auto lat2 = preprocess::hex2d_rows(35, 30, kC1d);
+  const auto lat2 = preprocess::hex2d_rows(35, 30, kRockD);
   ASSERT_EQ(lat2.size(), lat.size());
   for (std::size_t i = 0; i < lat.size(); ++i)
     for (int a = 0; a < 2; ++a) EXPECT_NEAR(lat.x[i][a], lat2.x[i][a], 1e-15);
@@ -37,7 +37,7 @@ TEST(Lattice, C1SpecimenHas1033DisksIn35Rows) {
 
 TEST(Lattice, HexBlockBondCount) {
   // 35 rows alternating 30/29: in-row bonds 18·29 + 17·28 = 998, between rows 34·2·29 = 1972.
-  Simulation sim = c1_specimen(Settings{.dt = 1e-8});
+  Simulation sim = uniaxial_specimen(Settings{.dt = 1e-8});
   EXPECT_EQ(sim.bond_count(), 2970u);
 }
 
@@ -48,7 +48,7 @@ TEST(Lattice, StreamedBytesOfAStepCountParticlesAndBonds) {
   // state byte read and written (2 B), one shear component in 32 bits read and written (8 B)
   // and its owner byte (1 B, written and read back in cache). A contact has no owner byte and
   // its shear component in 64 bits.
-  Simulation sim = c1_specimen(Settings{.dt = 1e-8});
+  Simulation sim = uniaxial_specimen(Settings{.dt = 1e-8});
   sim.initialise();
   EXPECT_EQ(sim.streamed_bytes_per_step(), 1033u * 73u + 2970u * 15u + sim.contact_count() * 22u);
 }
@@ -68,12 +68,12 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
       s.dt = 1e-9;
       s.min_particles_per_thread = 1 << 30;  // one thread: one ring
       Simulation sim(dim, s);
-      Material rock = c1_material();
+      Material rock = rock_material();
       if (central) rock.ks = 0;
       const int mat = sim.add_material(rock);
-      const auto lat = dim == 2 ? preprocess::hex2d_box(0, 0, 0.1, 0.1, kC1d)
+      const auto lat = dim == 2 ? preprocess::hex2d_box(0, 0, 0.1, 0.1, kRockD)
                                 : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
-                                                               {0.02, 0.02, 0.02}, kC1d);
+                                                               {0.02, 0.02, 0.02}, kRockD);
       add_lattice(sim, lat, mat);
       sim.bond_touching_pairs();
       sim.initialise();
@@ -94,9 +94,9 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
 TEST(Lattice, ClosePackedCoordination) {
   // Interior spheres of HCP and FCC have 12 touching neighbours; layer spacing d·√(2/3).
   for (auto packing : {preprocess::Packing::HCP, preprocess::Packing::FCC}) {
-    const auto lat = preprocess::close_packed_box(packing, {0, 0, 0}, {8e-3, 8e-3, 8e-3}, kC1d);
+    const auto lat = preprocess::close_packed_box(packing, {0, 0, 0}, {8e-3, 8e-3, 8e-3}, kRockD);
     Simulation sim(3, Settings{.dt = 1e-8});
-    add_lattice(sim, lat, sim.add_material(c1_material()));
+    add_lattice(sim, lat, sim.add_material(rock_material()));
     sim.bond_touching_pairs();
     const auto bonds = sim.bonds();
     std::vector<int> z(lat.size(), 0);
@@ -119,7 +119,7 @@ TEST(Lattice, ClosePackedCoordination) {
     for (const auto& b : bonds) {
       double l2 = 0;
       for (int a = 0; a < 3; ++a) l2 += std::pow(pos[b.j][a] - pos[b.i][a], 2);
-      EXPECT_NEAR(std::sqrt(l2), kC1d, 1e-12);
+      EXPECT_NEAR(std::sqrt(l2), kRockD, 1e-12);
     }
   }
 }
@@ -158,12 +158,12 @@ TEST(CriticalDt, C1Specimen) {
   // dt_crit = 2·√(m/(6Kn+2Ks)) = 1.44e-7 s for the infinite lattice. The finite
   // block's λmax is at most the infinite lattice's (interlacing), the Lanczos estimate is
   // used with a 1 % margin: expect dt_crit within 1 % of that value.
-  Simulation sim = c1_specimen(Settings{.dt = 2e-8});
+  Simulation sim = uniaxial_specimen(Settings{.dt = 2e-8});
   sim.initialise();
-  const double spec = 2 * std::sqrt(c1_mass() / (6 * 6.587e10 + 2 * 2.371e10));
+  const double spec = 2 * std::sqrt(rock_mass() / (6 * 6.587e10 + 2 * 2.371e10));
   EXPECT_NEAR(spec, 1.44e-7, 0.005e-7);
   EXPECT_NEAR(sim.critical_dt() / spec, 1.0, 0.01);
-  EXPECT_LE(sim.lambda_estimate(), hex_lattice_lambda_max(6.587e10, 2.371e10, c1_mass()) * (1 + 1e-9));
+  EXPECT_LE(sim.lambda_estimate(), hex_lattice_lambda_max(6.587e10, 2.371e10, rock_mass()) * (1 + 1e-9));
   // the paper's dt is 0.14 of it
   EXPECT_NEAR(2e-8 / sim.critical_dt(), 0.14, 0.005);
 }
@@ -174,13 +174,13 @@ TEST(CriticalDt, LargeBlockStopsLanczosWithinTheMargin) {
   // The block's λmax lies below the infinite lattice's (6Kn+2Ks)/m and within a fraction of
   // a per cent of it, so the estimate must be below that value, within 1 % of it, and the
   // step used (margin included) on its safe side.
-  const auto lat = preprocess::hex2d_rows(500, 500, kC1d);
+  const auto lat = preprocess::hex2d_rows(500, 500, kRockD);
   ASSERT_GT(lat.size(), 200000u);
   Simulation sim(2, Settings{.dt = 1e-12});
-  add_lattice(sim, lat, sim.add_material(c1_material()));
+  add_lattice(sim, lat, sim.add_material(rock_material()));
   sim.bond_touching_pairs();
   sim.initialise();
-  const double inf = hex_lattice_lambda_max(6.587e10, 2.371e10, c1_mass());
+  const double inf = hex_lattice_lambda_max(6.587e10, 2.371e10, rock_mass());
   EXPECT_LE(sim.lambda_estimate(), inf * (1 + 1e-9));
   EXPECT_GE(sim.lambda_estimate(), inf * 0.99);
   EXPECT_LE(sim.critical_dt(), 2 / std::sqrt(inf));
@@ -198,7 +198,7 @@ TEST(CriticalDt, LargeClosePackedBlockOfNormalSpringsTakesTheBound) {
   const auto lat =
       preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0}, {0.065, 0.065, 0.065}, d);
   ASSERT_GT(lat.size(), 200000u);
-  Material m = c1_material();
+  Material m = rock_material();
   m.ks = 0;
   Simulation sim(3, Settings{.dt = 1e-12});
   add_lattice(sim, lat, sim.add_material(m));
@@ -213,9 +213,9 @@ TEST(CriticalDt, LargeClosePackedBlockOfNormalSpringsTakesTheBound) {
 }
 
 TEST(CriticalDt, RefusesUnstableStep) {
-  const auto lat = preprocess::hex2d_rows(6, 6, kC1d);
+  const auto lat = preprocess::hex2d_rows(6, 6, kRockD);
   Simulation sim(2, Settings{.dt = 1e-6});
-  add_lattice(sim, lat, sim.add_material(c1_material()));
+  add_lattice(sim, lat, sim.add_material(rock_material()));
   sim.bond_touching_pairs();
   try {
     sim.initialise();
@@ -225,7 +225,7 @@ TEST(CriticalDt, RefusesUnstableStep) {
     EXPECT_NE(std::string(e.what()).find("critical"), std::string::npos);
   }
   Simulation ok(2, Settings{.dt = 1e-6, .allow_unstable = true});
-  add_lattice(ok, lat, ok.add_material(c1_material()));
+  add_lattice(ok, lat, ok.add_material(rock_material()));
   ok.bond_touching_pairs();
   EXPECT_NO_THROW(ok.initialise());
 }
@@ -257,16 +257,16 @@ double dense_lambda(const Simulation& sim, const std::vector<double>& mass, doub
 void check_bounds_against_dense(int dim, unsigned seed) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1), um(0.5, 2.0);
-  preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(8, 8, kC1d)
+  preprocess::Lattice lat = dim == 2 ? preprocess::hex2d_rows(8, 8, kRockD)
                                      : preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
-                                                                    {4.2e-3, 4.2e-3, 4.2e-3}, kC1d);
-  const Material m = c1_material();
+                                                                    {4.2e-3, 4.2e-3, 4.2e-3}, kRockD);
+  const Material m = rock_material();
   Simulation sim(dim, Settings{.dt = 1e-12});
   const int mat = sim.add_material(m);
   std::vector<double> mass_by_id;
   for (auto p : lat.x) {
-    for (int a = 0; a < dim; ++a) p[a] += 0.04 * kC1d * u(rng);  // ±4 % perturbation
-    const double ms = c1_mass() * um(rng);                       // unequal masses
+    for (int a = 0; a < dim; ++a) p[a] += 0.04 * kRockD * u(rng);  // ±4 % perturbation
+    const double ms = rock_mass() * um(rng);                       // unequal masses
     mass_by_id.push_back(ms);
     sim.add_particle(p, lat.radius, mat, ms);
   }

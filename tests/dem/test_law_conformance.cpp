@@ -123,7 +123,7 @@ std::array<double, 3> direction(Rng& r, int dim) {
 // one without strength limits and one without friction.
 std::vector<Material> materials() {
   std::vector<Material> out;
-  Material m = test::c1_material();
+  Material m = test::rock_material();
   out.push_back(m);
   m.friction_strengthens_bonds = false;
   out.push_back(m);
@@ -132,8 +132,8 @@ std::vector<Material> materials() {
   m.shear_strength = 5e2;
   m.ks = 0.1 * m.kn;
   out.push_back(m);
-  out.push_back(test::c1_material(false));
-  m = test::c1_material();
+  out.push_back(test::rock_material(false));
+  m = test::rock_material();
   m.friction = 0;
   out.push_back(m);
   return out;
@@ -351,7 +351,7 @@ TEST(LawConformance, TheTableListsTheBuiltInLawsAndTheRegistryFindsThem) {
 namespace {
 // A two-disk bond pulled apart at 1 m/s, stopped after `steps`.
 Simulation pulled_pair(const char* law, std::int64_t steps) {
-  Material m = test::c1_material();
+  Material m = test::rock_material();
   m.law = law;
   Simulation sim = test::pulled_pair(m, Settings{.dt = 1e-8}, 1.0);
   sim.bond_touching_pairs();
@@ -420,17 +420,17 @@ TEST(LawConformance, MaterialsPickTheirLawByName) {
       EXPECT_EQ(sim.broken_count(), 0u);
       std::array<double, 3> u, v;
       sim.kinematics(1, u, v);
-      const double kn = test::c1_material().kn;
+      const double kn = test::rock_material().kn;
       EXPECT_NEAR(-pull, kn * u[0], 1e-9 * kn * u[0]);
     }
   }
   // unknown names and mixed laws are refused
   Simulation sim(2, Settings{.dt = 1e-8});
-  Material bad = test::c1_material();
+  Material bad = test::rock_material();
   bad.law = "no_such_law";
   EXPECT_THROW(sim.add_material(bad), Error);
-  sim.add_material(test::c1_material());
-  Material other = test::c1_material();
+  sim.add_material(test::rock_material());
+  Material other = test::rock_material();
   other.law = LinearSpringLaw::kName;
   EXPECT_THROW(sim.add_material(other), Error);
 }

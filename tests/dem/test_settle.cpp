@@ -19,28 +19,28 @@ namespace {
 constexpr int kRows = 12, kColumns = 20;
 constexpr double kG = 1e4;  // m/s²: a strong gravity, so that the settlement stands far above round-off
 
-// A kRows × kColumns block of unbreakable uniaxial-compression rock on a frictionless base, its sides free: the
-// bottom row ("base") is prescribed in y only, to rise at 1 mm/s once loading starts (until
-// then it waits, held where it is), and a wall beside the block moves towards it.
+// A kRows × kColumns block of unbreakable uniaxial-compression rock on a frictionless base, its sides free:
+// the bottom row ("base") is prescribed in y only, to rise at 1 mm/s once loading starts (until then it
+// waits, held where it is), and a wall beside the block moves towards it.
 Simulation settling_block() {
-  const preprocess::Lattice lat = preprocess::hex2d_rows(kRows, kColumns, kC1d, 0, 0, false);
+  const preprocess::Lattice lat = preprocess::hex2d_rows(kRows, kColumns, kRockD, 0, 0, false);
   Settings set{.dt = 2e-8, .damping = Settings::Damping::Local, .local_alpha = 0.7, .gravity = {0, -kG, 0}};
   set.contact_detection = false;
   Simulation sim(2, set);
-  add_lattice(sim, lat, sim.add_material(c1_material(false)));
+  add_lattice(sim, lat, sim.add_material(rock_material(false)));
   double lo = lat.x[0][1], hi = lo;
   for (const auto& p : lat.x) lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
   std::vector<std::uint32_t> base, top;
   for (std::uint32_t i = 0; i < lat.size(); ++i) {
-    if (lat.x[i][1] < lo + 0.25 * kC1d) base.push_back(i);
-    if (lat.x[i][1] > hi - 0.25 * kC1d) top.push_back(i);
+    if (lat.x[i][1] < lo + 0.25 * kRockD) base.push_back(i);
+    if (lat.x[i][1] > hi - 0.25 * kRockD) top.push_back(i);
   }
   EXPECT_EQ(base.size(), std::size_t(kColumns));
   EXPECT_EQ(top.size(), std::size_t(kColumns));
   sim.add_to_group(base, "base");
   sim.add_to_group(top, "top");
   sim.prescribe_velocity("base", {0, 1e-3, 0}, kY);
-  sim.add_wall({-2 * kC1d, 0, 0}, {1, 0, 0}, {1.0, 0, 0}, 6.5e10);
+  sim.add_wall({-2 * kRockD, 0, 0}, {1, 0, 0}, {1.0, 0, 0}, 6.5e10);
   sim.bond_touching_pairs();
   sim.initialise();
   return sim;
@@ -76,7 +76,7 @@ TEST(DemSettle, BlockSettlesUnderItsWeightThenTheRunStarts) {
 
   // Statics: the bonds press on the base row with the weight of the rows above it (the base
   // row's own weight rests on its constraint): once settled, to 1e-6.
-  const double m = c1_mass();
+  const double m = rock_mass();
   const double weight = double(sim.particle_count() - kColumns) * m * kG;
   EXPECT_NEAR(sim.group_force("base")[1], -weight, 1e-6 * weight);
 
@@ -84,10 +84,10 @@ TEST(DemSettle, BlockSettlesUnderItsWeightThenTheRunStarts) {
   // the rows above it through a strip of width kColumns·d and modulus E·t of the hexagonal
   // lattice, so the top row comes down by m_row·g·h/(E·t·w) · R(R−1)/2. The free sides make
   // the block a little softer than the infinite lattice (2.6 % more settlement): 3 %.
-  const Material mat = c1_material(false);
+  const Material mat = rock_material(false);
   const double et = hex_elastic(mat.kn, mat.ks).E;
-  const double h = kC1d * std::sqrt(3.0) / 2;
-  const double expected = kColumns * m * kG * h / (et * kColumns * kC1d) * kRows * (kRows - 1) / 2.0;
+  const double h = kRockD * std::sqrt(3.0) / 2;
+  const double expected = kColumns * m * kG * h / (et * kColumns * kRockD) * kRows * (kRows - 1) / 2.0;
   const double settled = top0 - mean_y(sim, "top");
   EXPECT_NEAR(settled, expected, 0.03 * expected) << "settlement " << settled << " m";
 

@@ -25,8 +25,8 @@ struct Curve {
 // faster than the paper's (v = 0.0125 m/s instead of 2.4e-4 m/s) but still quasi-static:
 // the time to the peak is about 400 wave transits of the specimen.
 Curve compress(bool strengthen, std::int64_t steps) {
-  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kC1d);
-  Material m = c1_material();
+  const auto lat = preprocess::hex2d_box(0, 0, 0.030, 0.0305, kRockD);
+  Material m = rock_material();
   m.friction_strengthens_bonds = strengthen;
   Simulation sim(2, Settings{.dt = 1e-12, .damping = Settings::Damping::Viscous, .viscous_c = 1.16e3});
   add_lattice(sim, lat, sim.add_material(m));
@@ -91,7 +91,7 @@ TEST(Uniaxial, C1TensileFirstThenPeakThenDropAndConjugateBands) {
   ASSERT_GT(pts.size(), 50u);
   HoughOptions ho;
   ho.lines = 4;
-  ho.rho_bin = kC1d;
+  ho.rho_bin = kRockD;
   ho.suppress_theta_deg = 20;
   const auto lines = hough_lines(pts, ho);
   ASSERT_GE(lines.size(), 2u);
