@@ -1,8 +1,7 @@
 #pragma once
 // Internal to strata::cases: small helpers its sources share (the first line of an error
-// message). One definition here: the library is compiled as one
-// batch of sources per compiler run in the sanitizer and minimal builds, where two file-local
-// copies would clash.
+// message). One definition here: the library is compiled as one batch of sources per compiler
+// run in the sanitizer and minimal builds, where two file-local copies would clash.
 #include <string>
 
 namespace strata::cases::detail {

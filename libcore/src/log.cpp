@@ -35,7 +35,7 @@ void init(Level level) {
 }
 
 double Phases::lap(const char* phase) {
-  const auto now = Clock::now();
+  const auto now = WallClock::now();
   const double s = seconds_between(t_, now);
   t_ = now;
   if (get().should_log(spdlog::level::debug))

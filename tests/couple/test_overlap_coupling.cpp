@@ -3,6 +3,7 @@
 // (FemPartition) with matched elastic constants, exchanging through interpolated links
 // (shape functions at DEM externals, least-squares fits at FEM externals).
 #include <gtest/gtest.h>
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/core/parallel.hpp>
 #include <strata/couple/coupler.hpp>
@@ -12,7 +13,6 @@
 #include <strata/preprocess/overlap.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -340,7 +340,7 @@ PulseResult pulse(int eta, Execution mode, double dt_fraction = 0.3, double long
   s.dt_dem = dt_fraction * kDemDtCrit;
   s.rollers = true;
   s.pulse_v0 = 0.1;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = WallClock::now();
   auto r = make_run(m, s);
   PulseResult out;
   out.scheme = r->fem->integrator();
@@ -385,7 +385,7 @@ PulseResult pulse(int eta, Execution mode, double dt_fraction = 0.3, double long
                   double(done) / double(n_crossed), e);
     if (!std::isfinite(e) || e > 10) break;
   }
-  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  out.seconds = seconds_since(t0);
   out.dem_hash = r->dem->simulation().state_hash();
   out.fem_u.assign(r->fem->solver().u().data(), r->fem->solver().u().data() + r->fem->solver().u().size());
   return out;

@@ -7,7 +7,7 @@
 #include <strata/preprocess/geometry.hpp>
 #include <strata/preprocess/mesh_fill.hpp>
 
-#include <chrono>
+#include <strata/core/clock.hpp>
 #include <strata/core/memory.hpp>
 
 #include <cstdio>
@@ -27,10 +27,10 @@ int main(int argc, char** argv) {
   o.min_boundary_distance = argc > 4 ? std::stod(argv[4]) : 0.0;
   if (argc > 5) strata::par::set_threads(std::stoi(argv[5]));
   try {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = strata::WallClock::now();
     const Geometry g = read_geometry(argv[1]);
     const GeometryRegion r = g.region("");
-    const double read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double read_s = strata::seconds_since(t0);
     const RegionFill f = fill_region(r, o);
     std::printf(
         "{\"particles\": %zu, \"seconds\": %.4f, \"particles_per_s\": %.4g, \"read_seconds\": %.3f, "

@@ -4,6 +4,7 @@
 // coupling relies on (check_model), and the box path for its previous result.
 #include <gtest/gtest.h>
 #include <strata/config.hpp>
+#include <strata/core/clock.hpp>
 #include <strata/core/error.hpp>
 #include <strata/preprocess/geometry.hpp>
 #include <strata/preprocess/overlap.hpp>
@@ -11,7 +12,6 @@
 #include "test_util.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -410,11 +410,9 @@ void check_model(const sp::OverlapModel& m, const std::vector<std::string>& part
 
 [[maybe_unused]] sp::OverlapModel timed(const std::string& name, const std::vector<std::string>& p,
                                         const std::vector<std::string>& f, const sp::OverlapOptions& o) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = strata::WallClock::now();
   sp::OverlapModel m = sp::build_coupled_model(strata::test::data(name), p, f, o);
-  if (verbose())
-    std::printf("%s: built in %.3f s\n", name.c_str(),
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  if (verbose()) std::printf("%s: built in %.3f s\n", name.c_str(), strata::seconds_since(t0));
   return m;
 }
 

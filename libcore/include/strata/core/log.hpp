@@ -39,13 +39,12 @@ void error(spdlog::format_string_t<Args...> f, Args&&... args) {
 /// which tell where a large model's set-up needs its memory.
 class Phases {
  public:
-  explicit Phases(std::string task) : task_(std::move(task)), t_(Clock::now()) {}
+  explicit Phases(std::string task) : task_(std::move(task)), t_(WallClock::now()) {}
   /// Logs the time since the last lap (or the start) under `phase`; returns it in seconds.
   double lap(const char* phase);
 
  private:
-  using Clock = WallClock;
   std::string task_;
-  Clock::time_point t_;
+  WallClock::time_point t_;
 };
 }  // namespace strata::log
