@@ -478,6 +478,11 @@ class Engine final : public LawEngine<D> {
       for (int a = 0; a < D; ++a) SF[a] = m.scratch[t].fb[a].data() - kb0;
       const double* __restrict SE = m.scratch[t].en.data() - kb0;
       const std::ptrdiff_t p0 = blk * kBlock;
+      // a block whose bonds all reach partners in this thread's range and in the ring (nearly
+      // every block of a lattice) passes their reactions on without the checks below
+      std::uint32_t jmax = 0;
+      for (std::uint32_t k = kb0; k < boff[pe]; ++k) jmax = std::max(jmax, bj[k]);
+      const bool near = jmax < std::min(static_cast<std::uint32_t>(e), ring_end);
       const double* __restrict Rb = m.rad.block(static_cast<std::size_t>(p0));
       const double* __restrict IMb = m.im.block(static_cast<std::size_t>(p0));
       for (std::ptrdiff_t p = p0; p < pe; ++p) {
@@ -485,19 +490,30 @@ class Engine final : public LawEngine<D> {
         for (int a = 0; a < D; ++a)
           F[a] = RG[a * ModelData<D>::kRingStride + (static_cast<std::uint32_t>(p) & kRingMask)];
         // bonds owned by p, then contacts owned by p (fixed order)
-        for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
-          const std::uint32_t j = bj[k];
-          double Fb[D];
-          if (j >= static_cast<std::uint32_t>(e)) [[unlikely]] {
-            const double* s = &m.cross_b[cur_b++ * (D + 1)];
-            for (int a = 0; a < D; ++a) Fb[a] = s[a];
-            if constexpr (kEnergy) eb += s[D];
-          } else {
-            for (int a = 0; a < D; ++a) Fb[a] = SF[a][k];
-            pend_sub(j, Fb);
+        if (near) {
+          for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
+            const std::uint32_t jr = bj[k] & kRingMask;
+            for (int a = 0; a < D; ++a) {
+              RG[a * ModelData<D>::kRingStride + jr] -= SF[a][k];
+              F[a] += SF[a][k];
+            }
             if constexpr (kEnergy) eb += SE[k];
           }
-          for (int a = 0; a < D; ++a) F[a] += Fb[a];
+        } else {
+          for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
+            const std::uint32_t j = bj[k];
+            double Fb[D];
+            if (j >= static_cast<std::uint32_t>(e)) [[unlikely]] {
+              const double* s = &m.cross_b[cur_b++ * (D + 1)];
+              for (int a = 0; a < D; ++a) Fb[a] = s[a];
+              if constexpr (kEnergy) eb += s[D];
+            } else {
+              for (int a = 0; a < D; ++a) Fb[a] = SF[a][k];
+              pend_sub(j, Fb);
+              if constexpr (kEnergy) eb += SE[k];
+            }
+            for (int a = 0; a < D; ++a) F[a] += Fb[a];
+          }
         }
         for (std::uint32_t k = coff[p]; k < coff[p + 1]; ++k) {
           const std::uint32_t j = cj[k];
