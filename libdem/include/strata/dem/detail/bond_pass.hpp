@@ -5,6 +5,7 @@
 #include <strata/dem/laws/common.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <concepts>
 #include <cstddef>
@@ -29,6 +30,15 @@ double shear_reach_of(const Law& l) {
     return 0.0;
   }
 }
+
+/// Whether a broken bond of Law that is open (not touching) carries nothing, keeps a zero
+/// shear displacement and its state while its length exceeds its rest length, and touches
+/// again only once it is shorter (Law::kOpenIsInert): the bond pass then takes such bonds
+/// through the intact form (bond_span with kOpen).
+template <class Law>
+inline constexpr bool kOpenIsInert = requires {
+  requires Law::kOpenIsInert;
+};
 
 /// How the bond pass gets a bond's rest length.
 enum Rest { kRadiusSum, kUniform, kPerBond };
@@ -62,11 +72,14 @@ struct BondSpan {
 /// reference kernel (one breaking now, or a cross bond) keeps its stored state here.
 /// Without kBroken every bond of the range must be intact and held in 32 bits: the
 /// broken-bond law (a square root and a division per bond) and the wide entries are left
-/// out. Without kShear the model keeps no shear history (every law's Ks is zero): Us is
-/// zero and nothing is rounded or stored.
-/// Everything it calls is inlined (flatten): GCC 12 left the law's batch form of the full
-/// law (kBroken) as a call per bond, which kept the loop over the bonds from vectorising.
-template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
+/// out; with kOpen (and without kBroken) a bond may also be broken, separated and not
+/// touching (kOpenIsInert): its stored Us is zero, and while its length exceeds its rest
+/// length it carries nothing (the broken-bond law's zero force; its state and Us stay as
+/// they are); one that touches again is left to the reference kernel. Without kShear the model keeps no
+/// shear history (every law's Ks is zero): Us is zero and nothing is rounded or stored. Everything it calls
+/// is inlined (flatten): GCC 12 left the law's batch form of the full law (kBroken) as a call per bond, which
+/// kept the loop over the bonds from vectorising.
+template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear, bool kOpen = false>
 [[gnu::flatten]] void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
                                 std::size_t qb) {
   using namespace pair_state;
@@ -98,12 +111,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
   alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
   alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
   alignas(64) std::int64_t KEPT[kChunk];               // kBroken: how a bond's new Us is kept (keep, below)
-  alignas(64) std::int32_t QN[kNs][kChunk];            // a new Us in 32-bit steps (BondShear::steps_of)
-  alignas(64) double NU[kNs][kChunk];                  // new shear displacements (stored for fast bonds only)
+  alignas(64)
+      std::int64_t KEEP32[kOpen ? kChunk : 1];  // kOpen: a fast bond whose new Us is stored in 32 bits
+  alignas(64) std::int32_t QN[kNs][kChunk];     // a new Us in 32-bit steps (BondShear::steps_of)
+  alignas(64) double NU[kNs][kChunk];           // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
     P[i] = up0 + own[qa + i];
     J[i] = bj[qa + i];
-    if constexpr (kBroken) ST[i] = bst[qa + i];
+    if constexpr (kBroken || kOpen) ST[i] = bst[qa + i];
     if constexpr (kBroken && kShear) {
       const std::int32_t h = buq[(qa + i) * kNs];
       WI[i] = BondShear<kNs>::is_wide(h) ? static_cast<std::int64_t>(BondShear<kNs>::index_of(h)) : -1;
@@ -149,6 +164,13 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
       const bool wide = WI[i] >= 0;
       const std::int64_t w = wide ? WI[i] : 0;
       for (int a = 0; a < kNs; ++a) b[a] = wide ? bwide[w * kNs + a] : buq[q * kNs + a] * unit;
+    } else if constexpr (kOpen) {
+      // broken and open: Us is zero (its wide entry holds zeros); the steps are read either
+      // way and masked to +0 (a select of the load itself would be a masked load, which
+      // keeps the loop from vectorising)
+      const std::int64_t m = -static_cast<std::int64_t>(ST[i] == kIntact);
+      for (int a = 0; a < kNs; ++a)
+        b[a] = std::bit_cast<double>(std::bit_cast<std::int64_t>(buq[q * kNs + a] * unit) & m);
     } else {
       for (int a = 0; a < kNs; ++a) b[a] = buq[q * kNs + a] * unit;
     }
@@ -186,12 +208,18 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
         in32 &= (ost & kKindMask) == kIntact;
         held = in32 | WF[i];
       }
+      if constexpr (kOpen) {  // an open broken bond keeps its (zero) Us where it is
+        const std::int64_t open = ST[i] != kIntact;
+        in32 &= !open;
+        held = in32 | open;
+      }
       const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(qa + i), salt);
       for (int a = 0; a < kNs; ++a)
         QN[a][i] = BondShear<kNs>::steps_of(in32 != 0 ? NU[a][i] * inv : 0.0, bits, a);
     }
     const std::int64_t fast = (J[i] < ee64) & done & held;
     SLOW[i] = !fast;
+    if constexpr (kOpen) KEEP32[i] = fast & in32;
     if constexpr (kBroken) {
       if constexpr (kShear) KEPT[i] = fast * (2 - in32);  // 0 slow, 1 in 32 bits, 2 wide
       ST[i] = ST[i] + fast * (ost - ST[i]);
@@ -208,7 +236,21 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
       b.kf = bkf[q];
       b.sf = bsf[q];
     }
-    const BondLaneResult<kNs> o = law.template lane<kNs, kBroken, kEnergy>(b);
+    BondLaneResult<kNs> o = law.template lane<kNs, kBroken, kEnergy>(b);
+    if constexpr (kOpen) {
+      // a broken bond open before this step: while it stays open (Un <= 0) the broken-bond
+      // law's zero force (+0 each: Fn = 0, Fs = Ks·0); once it touches, the reference kernel.
+      // Masks rather than selects: with the latter GCC does not vectorise the loop.
+      const std::int64_t shut = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
+      auto zero_open = [shut](double x) {
+        return std::bit_cast<double>(std::bit_cast<std::int64_t>(x) & shut);
+      };
+      o.fn = zero_open(o.fn);
+      for (int a = 0; a < kNs; ++a) o.fs[a] = zero_open(o.fs[a]);
+      const std::int64_t apart = !(g.un > 0);
+      o.done = (o.done & shut) | (apart & ~shut);
+      if constexpr (kEnergy) o.energy = zero_open(o.energy);
+    }
     for (int a = 0; a < kNs; ++a) NU[a][i] = o.us[a];
     if constexpr (kBroken) {  // the verdict in a loop of its own (keep, below)
       OST[i] = o.st;
@@ -272,7 +314,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear>
       for (std::size_t i = 0; i < len_q; ++i)
         for (int a = 0; a < kNs; ++a) {
           std::int32_t& h = buq[(qa + i) * kNs + a];
-          h = SLOW[i] == 0 ? QN[a][i] : h;
+          h = (kOpen ? KEEP32[i] != 0 : SLOW[i] == 0) ? QN[a][i] : h;
         }
     }
   }
@@ -287,17 +329,29 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
   const std::int32_t* uq = sp.uq;
   for (std::size_t qa = 0; qa < mq; qa += kChunk) {
     const std::size_t qb = std::min(mq, qa + kChunk);
-    std::uint8_t any = 0;
-    for (std::size_t q = qa; q < qb; ++q) any |= stq[q];
+    // shut: a broken bond that touches, or one that has not been found open yet (its state
+    // and Us are the law's to settle)
+    std::uint8_t any = 0, shut = 0;
+    for (std::size_t q = qa; q < qb; ++q) {
+      any |= stq[q];
+      shut |= (stq[q] & pair_state::kTouching) |
+              (stq[q] != pair_state::kIntact && !(stq[q] & pair_state::kSeparated));
+    }
     bool wide = false;  // an intact bond that is wide (a broken one is, and sets `any`)
-    if (sp.intact_wide && any == pair_state::kIntact)
-      for (std::size_t q = qa; q < qb; ++q) wide |= BondShear<kNs>::is_wide(uq[q * kNs]);
+    if (sp.intact_wide && !shut)
+      for (std::size_t q = qa; q < qb; ++q)
+        wide |= stq[q] == pair_state::kIntact && BondShear<kNs>::is_wide(uq[q * kNs]);
     const bool broken = any != pair_state::kIntact || wide;
+    // broken bonds, all open, among intact ones held in 32 bits: the intact form with kOpen
+    // (with a shear history only: GCC 12 does not vectorise that form without)
+    const bool open = kOpenIsInert<Law> && sp.keep_us && broken && !shut && !wide;
     if (!sp.keep_us) {  // no shear history: nothing of BondShear is read or written
       if (broken)
         bond_span<D, Law, kEnergy, kRest, true, false>(sp, L, dt, d_uniform, qa, qb);
       else
         bond_span<D, Law, kEnergy, kRest, false, false>(sp, L, dt, d_uniform, qa, qb);
+    } else if (open) {
+      bond_span<D, Law, kEnergy, kRest, false, true, true>(sp, L, dt, d_uniform, qa, qb);
     } else if (broken) {
       bond_span<D, Law, kEnergy, kRest, true, true>(sp, L, dt, d_uniform, qa, qb);
     } else {

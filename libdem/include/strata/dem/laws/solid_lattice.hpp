@@ -124,6 +124,11 @@ struct SolidLatticeLaw {
     return 0.5 * kn * un * un + 0.5 * ks * u2;
   }
 
+  /// A broken bond that is open (Un <= 0 when last computed) carries nothing, holds Us = 0
+  /// and keeps its state until it touches again (Un > 0): the bond pass may take it with the
+  /// intact bonds (bond_pass.hpp, kOpenIsInert).
+  static constexpr bool kOpenIsInert = true;
+
   /// Batch form of `apply` and `energy` for one bond (intact or broken; never a contact),
   /// written with selects and bitwise & instead of branches so that the bond pass's
   /// `omp simd` loop vectorises it. The same expressions in the same order as `apply`, so
