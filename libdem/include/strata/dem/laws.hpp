@@ -25,7 +25,11 @@
 ///    `energy` for one bond without branches (selects), giving the same bits; without it
 ///    every bond takes `apply` (correct, slower). Check that the bond pass still vectorises
 ///    (GCC: -fopt-info-vec on libdem/src/step.cpp); `#pragma GCC unroll` on its loops over
-///    the NS components helps.
+///    the NS components helps;
+///  - optionally `static constexpr bool kOpenIsInert = true` where a broken bond that is
+///    open (not touching) carries nothing and keeps Us = 0 and its state until it touches
+///    again: the bond pass then takes chunks whose broken bonds are all open through the
+///    intact form (bond_pass.hpp).
 ///
 /// How to add a law to strata:
 ///  1. Write libdem/include/strata/dem/laws/<name>.hpp with the struct (copy
