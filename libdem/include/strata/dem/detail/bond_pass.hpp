@@ -75,10 +75,11 @@ struct BondSpan {
 /// out; with kOpen (and without kBroken) a bond may also be broken, separated and not
 /// touching (kOpenIsInert): its stored Us is zero, and while its length exceeds its rest
 /// length it carries nothing (the broken-bond law's zero force; its state and Us stay as
-/// they are); one that touches again is left to the reference kernel. Without kShear the model keeps no
-/// shear history (every law's Ks is zero): Us is zero and nothing is rounded or stored. Everything it calls
-/// is inlined (flatten): GCC 12 left the law's batch form of the full law (kBroken) as a call per bond, which
-/// kept the loop over the bonds from vectorising.
+/// they are); one that touches again is left to the reference kernel. Without kShear the
+/// model keeps no shear history (every law's Ks is zero): Us is zero and nothing is rounded
+/// or stored.
+/// Everything it calls is inlined (flatten): GCC 12 left the law's batch form of the full
+/// law (kBroken) as a call per bond, which kept the loop over the bonds from vectorising.
 template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear, bool kOpen = false>
 [[gnu::flatten]] void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
                                 std::size_t qb) {
@@ -108,13 +109,12 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
   // the entry of a wide bond's history in bwide, or -1 (with kBroken only: a chunk without
   // a broken or wide bond holds every history in 32 bits)
-  alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
-  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
-  alignas(64) std::int64_t KEPT[kChunk];               // kBroken: how a bond's new Us is kept (keep, below)
-  alignas(64)
-      std::int64_t KEEP32[kOpen ? kChunk : 1];  // kOpen: a fast bond whose new Us is stored in 32 bits
-  alignas(64) std::int32_t QN[kNs][kChunk];     // a new Us in 32-bit steps (BondShear::steps_of)
-  alignas(64) double NU[kNs][kChunk];           // new shear displacements (stored for fast bonds only)
+  alignas(64) std::int64_t WI[kChunk], WF[kChunk];      // WF: 1 for a wide bond (WI >= 0)
+  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];   // kBroken: the law's new state and verdict
+  alignas(64) std::int64_t KEPT[kChunk];                // kBroken: how a bond's new Us is kept (keep, below)
+  alignas(64) std::int64_t KEEP32[kOpen ? kChunk : 1];  // kOpen: 1 where the new Us goes to 32 bits
+  alignas(64) std::int32_t QN[kNs][kChunk];             // a new Us in 32-bit steps (BondShear::steps_of)
+  alignas(64) double NU[kNs][kChunk];  // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
     P[i] = up0 + own[qa + i];
     J[i] = bj[qa + i];
@@ -241,14 +241,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       // a broken bond open before this step: while it stays open (Un <= 0) the broken-bond
       // law's zero force (+0 each: Fn = 0, Fs = Ks·0); once it touches, the reference kernel.
       // Masks rather than selects: with the latter GCC does not vectorise the loop.
-      const std::int64_t shut = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
-      auto zero_open = [shut](double x) {
-        return std::bit_cast<double>(std::bit_cast<std::int64_t>(x) & shut);
+      const std::int64_t whole = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
+      auto zero_open = [whole](double x) {
+        return std::bit_cast<double>(std::bit_cast<std::int64_t>(x) & whole);
       };
       o.fn = zero_open(o.fn);
       for (int a = 0; a < kNs; ++a) o.fs[a] = zero_open(o.fs[a]);
       const std::int64_t apart = !(g.un > 0);
-      o.done = (o.done & shut) | (apart & ~shut);
+      o.done = (o.done & whole) | (apart & ~whole);
       if constexpr (kEnergy) o.energy = zero_open(o.energy);
     }
     for (int a = 0; a < kNs; ++a) NU[a][i] = o.us[a];
