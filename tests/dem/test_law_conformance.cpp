@@ -379,7 +379,9 @@ TEST(LawConformance, OpenBrokenBondsAmongIntactOnesGiveTheSameBitsOnBothPaths) {
     EXPECT_GT(cov.open, 1000) << law->name;
     EXPECT_GT(cov.touching, 100) << law->name;
     // the intact form took the chunks: it leaves a bond that touches again to the reference kernel
-    if (law->name == SolidLatticeLaw::kName) EXPECT_GT(cov.deferred, 100);
+    if (law->name == SolidLatticeLaw::kName) {
+      EXPECT_GT(cov.deferred, 100);
+    }
   }
 }
 
