@@ -40,6 +40,14 @@ inline constexpr bool kOpenIsInert = requires {
   requires Law::kOpenIsInert;
 };
 
+/// x where mask is all ones, +0 where it is zero: a bond's value kept or zeroed by bit
+/// operations. A select between x and 0 would do the same, but where x is a load GCC 12
+/// makes it a masked load, and under the step kernel's no-gather tuning a loop holding
+/// one does not vectorise.
+inline double masked(double x, std::int64_t mask) {
+  return std::bit_cast<double>(std::bit_cast<std::int64_t>(x) & mask);
+}
+
 /// How the bond pass gets a bond's rest length.
 enum Rest { kRadiusSum, kUniform, kPerBond };
 
@@ -166,11 +174,9 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       for (int a = 0; a < kNs; ++a) b[a] = wide ? bwide[w * kNs + a] : buq[q * kNs + a] * unit;
     } else if constexpr (kOpen) {
       // broken and open: Us is zero (its wide entry holds zeros); the steps are read either
-      // way and masked to +0 (a select of the load itself would be a masked load, which
-      // keeps the loop from vectorising)
-      const std::int64_t m = -static_cast<std::int64_t>(ST[i] == kIntact);
-      for (int a = 0; a < kNs; ++a)
-        b[a] = std::bit_cast<double>(std::bit_cast<std::int64_t>(buq[q * kNs + a] * unit) & m);
+      // way and masked to +0
+      const std::int64_t whole = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
+      for (int a = 0; a < kNs; ++a) b[a] = masked(buq[q * kNs + a] * unit, whole);
     } else {
       for (int a = 0; a < kNs; ++a) b[a] = buq[q * kNs + a] * unit;
     }
@@ -239,17 +245,13 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     BondLaneResult<kNs> o = law.template lane<kNs, kBroken, kEnergy>(b);
     if constexpr (kOpen) {
       // a broken bond open before this step: while it stays open (Un <= 0) the broken-bond
-      // law's zero force (+0 each: Fn = 0, Fs = Ks·0); once it touches, the reference kernel.
-      // Masks rather than selects: with the latter GCC does not vectorise the loop.
+      // law's zero force (+0 each: Fn = 0, Fs = Ks·0); once it touches, the reference kernel
       const std::int64_t whole = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
-      auto zero_open = [whole](double x) {
-        return std::bit_cast<double>(std::bit_cast<std::int64_t>(x) & whole);
-      };
-      o.fn = zero_open(o.fn);
-      for (int a = 0; a < kNs; ++a) o.fs[a] = zero_open(o.fs[a]);
+      o.fn = masked(o.fn, whole);
+      for (int a = 0; a < kNs; ++a) o.fs[a] = masked(o.fs[a], whole);
       const std::int64_t apart = !(g.un > 0);
       o.done = (o.done & whole) | (apart & ~whole);
-      if constexpr (kEnergy) o.energy = zero_open(o.energy);
+      if constexpr (kEnergy) o.energy = masked(o.energy, whole);
     }
     for (int a = 0; a < kNs; ++a) NU[a][i] = o.us[a];
     if constexpr (kBroken) {  // the verdict in a loop of its own (keep, below)
@@ -337,14 +339,17 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
       shut |= (stq[q] & pair_state::kTouching) |
               (stq[q] != pair_state::kIntact && !(stq[q] & pair_state::kSeparated));
     }
-    bool wide = false;  // an intact bond that is wide (a broken one is, and sets `any`)
-    if (sp.intact_wide && !shut)
+    // an intact bond that is wide (a broken one is, and sets `any`); it matters where no bond
+    // is broken (the intact form is then out) or where the open form may apply
+    constexpr bool kMayOpen = kOpenIsInert<Law>;
+    bool wide = false;
+    if (sp.intact_wide && !shut && (any == pair_state::kIntact || (kMayOpen && sp.keep_us)))
       for (std::size_t q = qa; q < qb; ++q)
         wide |= stq[q] == pair_state::kIntact && BondShear<kNs>::is_wide(uq[q * kNs]);
     const bool broken = any != pair_state::kIntact || wide;
     // broken bonds, all open, among intact ones held in 32 bits: the intact form with kOpen
     // (with a shear history only: GCC 12 does not vectorise that form without)
-    const bool open = kOpenIsInert<Law> && sp.keep_us && broken && !shut && !wide;
+    const bool open = kMayOpen && sp.keep_us && broken && !shut && !wide;
     if (!sp.keep_us) {  // no shear history: nothing of BondShear is read or written
       if (broken)
         bond_span<D, Law, kEnergy, kRest, true, false>(sp, L, dt, d_uniform, qa, qb);
