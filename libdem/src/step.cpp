@@ -1,12 +1,9 @@
 // The step kernel of every built-in law (BuiltinLaws in laws.hpp), compiled here: the bond
 // pass, the two phases of a step and the update (strata/dem/detail/step_kernel.hpp), each
 // in this one translation unit with everything it inlines, under libdem's floating-point
-// flags and without gather instructions (libdem/CMakeLists.txt). The bond pass's
-// broken-bond form is compiled apart, with gathers (broken_spans.hpp).
+// flags and without gather instructions (libdem/CMakeLists.txt).
 #include <strata/dem/detail/law_entry.hpp>
 #include <strata/dem/laws.hpp>
-
-#include "broken_spans.hpp"  // the broken-bond form of the bond pass: compiled in broken_spans.cpp
 
 #include <vector>
 

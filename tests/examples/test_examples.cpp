@@ -434,6 +434,17 @@ TEST(Examples, EccentricPoissonStudyQuick) {
   EXPECT_GT(nu_weak, nu_plain + 0.1);
 }
 
+// bench/broken/uniaxial_3d.toml, the workload docs/performance.md times the broken-bond law
+// on: the scene stays valid and builds the model its header describes.
+TEST(Examples, BrokenBondBenchmarkSceneChecks) {
+  std::string log;
+  const fs::path scene = fs::path(STRATA_SOURCE_DIR) / "bench" / "broken" / "uniaxial_3d.toml";
+  ASSERT_EQ(run("check " + scene.string(), &log), 0) << log;
+  EXPECT_NE(log.find("particles    1986"), std::string::npos) << log;
+  EXPECT_NE(log.find("bonds        10471"), std::string::npos) << log;
+  EXPECT_NE(log.find("(dt/dt_crit = 0.200)"), std::string::npos) << log;
+}
+
 TEST(Examples, EveryQuickSceneRuns) {
   if (!STRATA_WITH_GMSH || !STRATA_WITH_VTK)
     GTEST_SKIP() << "the further examples are .geo files and ask for frames: needs STRATA_WITH_GMSH and "

@@ -34,9 +34,8 @@
 /// How to add a law to strata:
 ///  1. Write libdem/include/strata/dem/laws/<name>.hpp with the struct (copy
 ///     laws/solid_lattice.hpp); cite the source of its equations.
-///  2. Include it below and add the struct to `BuiltinLaws` (one row), and with a batch form
-///     to STRATA_BROKEN_SPANS (libdem/src/broken_spans.hpp); libdem then compiles the step
-///     kernel for it (libdem/src/step.cpp) and `kLaws` lists it.
+///  2. Include it below and add the struct to `BuiltinLaws` (one row); libdem then compiles
+///     the step kernel for it (libdem/src/step.cpp) and `kLaws` lists it.
 ///  3. If it needs parameters Material does not carry, add fields to Material
 ///     (material.hpp), to the checkpoint (libdem/src/state.cpp) and to the scene schema.
 ///  4. Run test_dem: tests/dem/test_law_conformance.cpp checks the batch form against the

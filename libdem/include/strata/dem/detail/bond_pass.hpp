@@ -48,6 +48,11 @@ inline double masked(double x, std::int64_t mask) {
   return std::bit_cast<double>(std::bit_cast<std::int64_t>(x) & mask);
 }
 
+/// The bits of a | b: of two values of which masked() zeroed one, the other one.
+inline double either(double a, double b) {
+  return std::bit_cast<double>(std::bit_cast<std::int64_t>(a) | std::bit_cast<std::int64_t>(b));
+}
+
 /// How the bond pass gets a bond's rest length.
 enum Rest { kRadiusSum, kUniform, kPerBond };
 
@@ -59,9 +64,9 @@ struct BondSpan {
   const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf, *sf;
   double *F0, *F1, *F2, *en;
   /// The shear histories (BondShear): uq at the span's first bond, kNs per bond; wide, the
-  /// wide bonds' entries (at least one, so that a select may read entry 0); unit and its
-  /// inverse. keep_us false: uq points at zeros the pass reads and must not write (no shear
-  /// history; unit and inv are then 0).
+  /// wide bonds' entries (at least one: the pass reads entry 0 for a bond held in steps);
+  /// unit and its inverse. keep_us false: uq points at zeros the pass reads and must not
+  /// write (no shear history; unit and inv are then 0).
   std::int32_t* uq;
   double* wide;
   double unit, inv;
@@ -169,9 +174,12 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     if constexpr (!kShear) {
       for (int a = 0; a < kNs; ++a) b[a] = 0.0;
     } else if constexpr (kBroken) {
-      const bool wide = WI[i] >= 0;
-      const std::int64_t w = wide ? WI[i] : 0;
-      for (int a = 0; a < kNs; ++a) b[a] = wide ? bwide[w * kNs + a] : buq[q * kNs + a] * unit;
+      // both read (a wide bond's steps are its entry's code, a bond held in steps reads entry
+      // 0) and the right one kept by masks: a select of the loads would be a masked load
+      const std::int64_t wide = -static_cast<std::int64_t>(WI[i] >= 0);  // all ones: wide
+      const std::int64_t w = WI[i] & wide;
+      for (int a = 0; a < kNs; ++a)
+        b[a] = either(masked(bwide[w * kNs + a], wide), masked(buq[q * kNs + a] * unit, ~wide));
     } else if constexpr (kOpen) {
       // broken and open: Us is zero (its wide entry holds zeros); the steps are read either
       // way and masked to +0
