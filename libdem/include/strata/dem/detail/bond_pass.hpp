@@ -122,12 +122,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
   // the entry of a wide bond's history in bwide, or -1 (with kBroken only: a chunk without
   // a broken or wide bond holds every history in 32 bits)
-  alignas(64) std::int64_t WI[kChunk], WF[kChunk];      // WF: 1 for a wide bond (WI >= 0)
-  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];   // kBroken: the law's new state and verdict
-  alignas(64) std::int64_t KEPT[kChunk];                // kBroken: how a bond's new Us is kept (keep, below)
-  alignas(64) std::int64_t KEEP32[kOpen ? kChunk : 1];  // kOpen: 1 where the new Us goes to 32 bits
-  alignas(64) std::int32_t QN[kNs][kChunk];             // a new Us in 32-bit steps (BondShear::steps_of)
-  alignas(64) double NU[kNs][kChunk];  // new shear displacements (stored for fast bonds only)
+  alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
+  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
+  alignas(64) std::int64_t KEPT[kChunk];               // kBroken: how a bond's new Us is kept (keep, below)
+  // 1 where a fast bond's new Us goes to its 32-bit steps: in 32-bit lanes like the steps
+  // and applied by masks (with a 64-bit flag or a select GCC 12 left the 3D store scalar)
+  alignas(64) std::int32_t PUT32[kShear ? kChunk : 1];
+  alignas(64) std::int32_t QN[kNs][kChunk];  // a new Us in 32-bit steps (BondShear::steps_of)
+  alignas(64) double NU[kNs][kChunk];        // new shear displacements (stored for fast bonds only)
   for (std::size_t i = 0; i < len_q; ++i) {
     P[i] = up0 + own[qa + i];
     J[i] = bj[qa + i];
@@ -233,7 +235,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     }
     const std::int64_t fast = (J[i] < ee64) & done & held;
     SLOW[i] = !fast;
-    if constexpr (kOpen) KEEP32[i] = fast & in32;
+    if constexpr (kShear) PUT32[i] = static_cast<std::int32_t>(fast & in32);
     if constexpr (kBroken) {
       if constexpr (kShear) KEPT[i] = fast * (2 - in32);  // 0 slow, 1 in 32 bits, 2 wide
       ST[i] = ST[i] + fast * (ost - ST[i]);
@@ -307,26 +309,20 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
   }
   if constexpr (kShear) {
-    // fast bonds held in 32 bits: their new steps (a select, so that the loop vectorises);
-    // fast wide ones (broken, mostly): their entries
-    if constexpr (kBroken) {
+    // fast bonds held in 32 bits: their new steps (by masks, not a branch or a select, so
+    // that the loop vectorises in 2D and 3D); fast wide ones (broken, mostly): their entries
 #pragma omp simd
-      for (std::size_t i = 0; i < len_q; ++i)
-        for (int a = 0; a < kNs; ++a) {
-          std::int32_t& h = buq[(qa + i) * kNs + a];
-          h = KEPT[i] == 1 ? QN[a][i] : h;
-        }
+    for (std::size_t i = 0; i < len_q; ++i) {
+      const std::int32_t put = -PUT32[i];  // all ones: the new steps
+      for (int a = 0; a < kNs; ++a) {
+        std::int32_t& h = buq[(qa + i) * kNs + a];
+        h = (QN[a][i] & put) | (h & ~put);
+      }
+    }
+    if constexpr (kBroken)
       for (std::size_t i = 0; i < len_q; ++i)
         if (KEPT[i] == 2)
           for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
-    } else {
-#pragma omp simd
-      for (std::size_t i = 0; i < len_q; ++i)
-        for (int a = 0; a < kNs; ++a) {
-          std::int32_t& h = buq[(qa + i) * kNs + a];
-          h = (kOpen ? KEEP32[i] != 0 : SLOW[i] == 0) ? QN[a][i] : h;
-        }
-    }
   }
 }
 
