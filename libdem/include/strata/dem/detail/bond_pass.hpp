@@ -124,7 +124,6 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   // a broken or wide bond holds every history in 32 bits)
   alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
   alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
-  alignas(64) std::int64_t KEPT[kChunk];               // kBroken: how a bond's new Us is kept (keep, below)
   // 1 where a fast bond's new Us goes to its 32-bit steps: in 32-bit lanes like the steps
   // and applied by masks (with a 64-bit flag or a select GCC 12 left the 3D store scalar)
   alignas(64) std::int32_t PUT32[kShear ? kChunk : 1];
@@ -236,10 +235,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     const std::int64_t fast = (J[i] < ee64) & done & held;
     SLOW[i] = !fast;
     if constexpr (kShear) PUT32[i] = static_cast<std::int32_t>(fast & in32);
-    if constexpr (kBroken) {
-      if constexpr (kShear) KEPT[i] = fast * (2 - in32);  // 0 slow, 1 in 32 bits, 2 wide
-      ST[i] = ST[i] + fast * (ost - ST[i]);
-    }
+    if constexpr (kBroken) ST[i] = ST[i] + fast * (ost - ST[i]);
   };
   auto apply_law = [&](std::size_t i, const Geo& g) {
     const std::size_t q = qa + i;
@@ -321,7 +317,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     }
     if constexpr (kBroken)
       for (std::size_t i = 0; i < len_q; ++i)
-        if (KEPT[i] == 2)
+        if (!SLOW[i] && !PUT32[i])  // fast and not held in 32 bits: wide
           for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
   }
 }
