@@ -60,13 +60,15 @@ endfunction()
 
 # strata_unity_build(<target>): compile <target> as a unity build (its sources in batches, each
 # batch one compiler run), which parses each header once per batch instead of once per file.
-# Only for targets whose results cannot change with it: inlining across the files of a batch
-# could fuse a multiply and an add into an FMA where separate files did not, so a target
-# whose floating-point results matter bit for bit needs -ffp-contract=off (libdem,
-# preprocess); tests compute only what they compare within tolerances. A source file with
-# compile options of its own (the step kernel, for one) is compiled on its own. File-local
-# names must be unique within such a target. (The sanitizer and minimal builds of
-# scripts/test compile every target this way: CMAKE_UNITY_BUILD.)
+# Every strata library and test executable is built this way. A batch may inline a function
+# of one file into another, and where multiply-adds are contracted into FMAs that could in
+# principle move the last bits of a result: libdem and preprocess, whose results must agree
+# to the bit wherever a kernel is inlined, compile with -ffp-contract=off; for the others
+# (scene, fem, couple, cases, io, core, the application) the switch from one file per
+# compiler run left the state hash and every reported number of each example's quick scene
+# as they were. A source file with compile options of its own (the step kernel, for one) is
+# compiled on its own. File-local names must be unique within such a target. (The sanitizer
+# and minimal builds of scripts/test set CMAKE_UNITY_BUILD, which covers every target.)
 function(strata_unity_build target)
   set_target_properties(${target} PROPERTIES UNITY_BUILD ON)
 endfunction()
