@@ -316,8 +316,8 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       }
     }
     if constexpr (kBroken)
-      for (std::size_t i = 0; i < len_q; ++i)
-        if (!SLOW[i] && !PUT32[i])  // fast and not held in 32 bits: wide
+      for (std::size_t i = 0; i < len_q; ++i)  // left scalar by GCC in 3D: stores of wide entries only
+        if (!SLOW[i] && !PUT32[i])             // fast and not held in 32 bits: wide
           for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
   }
 }
@@ -329,7 +329,7 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
   constexpr int kNs = kNsOf<D>;
   const std::uint8_t* stq = sp.st;
   const std::int32_t* uq = sp.uq;
-  for (std::size_t qa = 0; qa < mq; qa += kChunk) {
+  for (std::size_t qa = 0; qa < mq; qa += kChunk) {  // left scalar: a chunk at a time
     const std::size_t qb = std::min(mq, qa + kChunk);
     // shut: a broken bond that touches, or one that has not been found open yet (its state
     // and Us are the law's to settle)
@@ -344,7 +344,7 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
     constexpr bool kMayOpen = kOpenIsInert<Law>;
     bool wide = false;
     if (sp.intact_wide && !shut && (any == pair_state::kIntact || (kMayOpen && sp.keep_us)))
-      for (std::size_t q = qa; q < qb; ++q)
+      for (std::size_t q = qa; q < qb; ++q)  // left scalar: only where intact bonds may be wide
         wide |= stq[q] == pair_state::kIntact && BondShear<kNs>::is_wide(uq[q * kNs]);
     const bool broken = any != pair_state::kIntact || wide;
     // broken bonds, all open, among intact ones held in 32 bits: the intact form with kOpen
