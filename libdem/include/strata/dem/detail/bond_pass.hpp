@@ -316,7 +316,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       }
     }
     if constexpr (kBroken)
-      for (std::size_t i = 0; i < len_q; ++i)  // left scalar by GCC in 3D: stores of wide entries only
+      for (std::size_t i = 0; i < len_q; ++i)  // left scalar by GCC in 3D (and 2D without AVX-512)
         if (!SLOW[i] && !PUT32[i])             // fast and not held in 32 bits: wide
           for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
   }
