@@ -2,7 +2,7 @@
 // (libdem/src/step.cpp) and compiled under the same options, for the build check that every
 // `#pragma omp simd` loop of bond_pass.hpp vectorises (tests/dem/check_vectorised.sh). A loop
 // the compiler leaves scalar gives the same results, only slower, so no other test sees it.
-#include <strata/dem/detail/bond_pass.hpp>
+#include <strata/dem/detail/law_entry.hpp>
 #include <strata/dem/laws.hpp>
 
 #include <vector>
@@ -12,19 +12,13 @@ namespace strata::dem::detail {
 using AnyFn = void (*)();
 
 namespace {
-template <int D, class Law, bool kEnergy>
-void add_rests(std::vector<AnyFn>& out) {
-  out.push_back(reinterpret_cast<AnyFn>(&bond_chunks<D, Law, kEnergy, kRadiusSum>));
-  out.push_back(reinterpret_cast<AnyFn>(&bond_chunks<D, Law, kEnergy, kUniform>));
-  out.push_back(reinterpret_cast<AnyFn>(&bond_chunks<D, Law, kEnergy, kPerBond>));
-}
-
+// run_chunks takes every rest-length mode of the bond pass (bond_chunks), as the step kernel does
 template <class... L>
 void add_laws(std::vector<AnyFn>& out, LawList<L...>) {
-  (add_rests<2, L, false>(out), ...);
-  (add_rests<2, L, true>(out), ...);
-  (add_rests<3, L, false>(out), ...);
-  (add_rests<3, L, true>(out), ...);
+  (out.push_back(reinterpret_cast<AnyFn>(&run_chunks<2, L, false>)), ...);
+  (out.push_back(reinterpret_cast<AnyFn>(&run_chunks<2, L, true>)), ...);
+  (out.push_back(reinterpret_cast<AnyFn>(&run_chunks<3, L, false>)), ...);
+  (out.push_back(reinterpret_cast<AnyFn>(&run_chunks<3, L, true>)), ...);
 }
 }  // namespace
 
