@@ -7,11 +7,12 @@
 // beside the arithmetic of a DEM step.
 //
 //   bench_peak --benchmark_counters_tabular=true
+#include "machine_bench.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <cstdint>
-#include <thread>
 #include <vector>
 
 namespace {
@@ -91,18 +92,11 @@ void BM_SqrtDiv(benchmark::State& state) { run<sqrt_div_rounds>(state); }
 
 }  // namespace
 
-// 1 and 2 threads, then doubling up to every hardware thread (which is run too).
+// 1 and 2 threads, then doubling up to every hardware thread.
 int main(int argc, char** argv) {
-  std::vector<std::int64_t> threads{1, 2};
-  const auto hw = static_cast<std::int64_t>(std::thread::hardware_concurrency());
-  for (std::int64_t t = 4; t < hw; t *= 2) threads.push_back(t);
-  if (hw > 2) threads.push_back(hw);
+  const std::vector<std::int64_t> threads = strata::bench::thread_counts();
   for (auto* b : {benchmark::RegisterBenchmark("BM_MulAdd", BM_MulAdd),
                   benchmark::RegisterBenchmark("BM_SqrtDiv", BM_SqrtDiv)})
     b->ArgsProduct({threads})->ArgNames({"threads"})->UseRealTime()->Unit(benchmark::kMillisecond);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return strata::bench::run_registered(argc, argv);
 }

@@ -5,12 +5,13 @@
 // rates beside the bytes a DEM step moves (strata bench dem: streamed_bytes_per_particle_step).
 //
 //   bench_stream --benchmark_counters_tabular=true
+#include "machine_bench.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <thread>
 #include <vector>
 
 namespace {
@@ -51,20 +52,13 @@ void BM_Triad(benchmark::State& state) {
 
 }  // namespace
 
-// 1 and 2 threads, then doubling up to every hardware thread (which is run too).
+// 1 and 2 threads, then doubling up to every hardware thread.
 int main(int argc, char** argv) {
-  std::vector<std::int64_t> threads{1, 2};
-  const auto hw = static_cast<std::int64_t>(std::thread::hardware_concurrency());
-  for (std::int64_t t = 4; t < hw; t *= 2) threads.push_back(t);
-  if (hw > 2) threads.push_back(hw);
+  const std::vector<std::int64_t> threads = strata::bench::thread_counts();
   benchmark::RegisterBenchmark("BM_Triad", BM_Triad)
       ->ArgsProduct({{2 << 20, 256 << 20}, threads})
       ->ArgNames({"bytes", "threads"})
       ->UseRealTime()
       ->Unit(benchmark::kMillisecond);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return strata::bench::run_registered(argc, argv);
 }
