@@ -9,9 +9,9 @@
 // The arithmetic per bond is the intact form's (geometry, the shear increment, the shear
 // history in 32-bit steps rounded stochastically, normal and shear springs, the tensile and
 // shear strength tests, the force), and per disk the damped leapfrog update with viscous
-// damping; left out are the broken-bond law, boundary conditions, walls, contacts and the
-// energy bookkeeping. Four variants, each a step further from the layout towards the step
-// kernel's present one, the arithmetic the same:
+// damping; left out are the reference kernel's verdicts, boundary conditions, walls, contacts
+// and the energy bookkeeping. Four variants, each a step further from the layout towards the
+// step kernel's present one, the arithmetic the same:
 //   BM_SlotLayout   slots; forces pulled
 //   BM_Indexed      bonds direction by direction, partners loaded through an index array
 //                   (element by element, as from any list of bonds); forces pulled
@@ -19,6 +19,8 @@
 //                   through a pending-force array (the step kernel's scalar particle loop)
 //   BM_CsrPush      bonds owner by owner, each owner's three in turn (the step kernel's
 //                   order); reactions pushed
+// and BM_SlotLayoutBroken, BM_CsrPushBroken: the first and the last with two bonds in three
+// broken and every bond through the intact and the broken-bond law, as after the peak.
 // docs/performance.md ("Bonds in lattice slots") sets them beside the step kernel.
 //
 //   bench_slot_layout --benchmark_counters_tabular=true
@@ -44,13 +46,14 @@ struct Lattice {
   int offset[kDirections]{};                             // partner - owner
   std::vector<double> x, y, vx, vy;                      // n and padding
   std::vector<std::int64_t> mask[kDirections];           // all ones where the bond exists
+  std::vector<std::int64_t> broken[kDirections];         // all ones for a broken bond (kFull)
   std::vector<std::int32_t> partner[kDirections];        // owner + offset, as an index array
   std::vector<std::int32_t> steps[kDirections];          // shear history, 32-bit steps
   std::vector<double> fx[kDirections], fy[kDirections];  // bond forces, from pad on
   std::vector<double> pend_x, pend_y;                    // pending forces (push)
   // the same bonds owner by owner (BM_CsrPush): bond b = 3·owner + direction
   std::vector<std::int32_t> csr_owner, csr_partner, csr_steps;
-  std::vector<std::int64_t> csr_mask;
+  std::vector<std::int64_t> csr_mask, csr_broken;
   std::vector<double> csr_fx, csr_fy;
 
   Lattice(int rows, int long_row) {
@@ -62,6 +65,7 @@ struct Lattice {
     for (int k = 0; k < kDirections; ++k) {
       offset[k] = off[k];
       mask[k].assign(m, 0);
+      broken[k].assign(m, 0);
       partner[k].assign(m, 0);
       steps[k].assign(m, 0);
       fx[k].assign(m + pad, 0.0);
@@ -83,6 +87,9 @@ struct Lattice {
         mask[1][p] = up && (len < long_row || i >= 1) ? -1 : 0;
         mask[2][p] = up && (len < long_row || i + 1 < long_row) ? -1 : 0;
         for (int k = 0; k < kDirections; ++k) {
+          // two bonds in three broken, as after the peak of the uniaxial-compression example
+          broken[k][p] = (static_cast<std::uint32_t>(kDirections * p + k) * 0x9e3779b1u >> 16) % 3 ? -1 : 0;
+          csr_broken.push_back(broken[k][p]);
           partner[k][p] = p + off[k];
           csr_owner.push_back(p);
           csr_partner.push_back(p + off[k]);
@@ -101,22 +108,45 @@ double bits_and(double v, std::int64_t m) {
   return v;
 }
 
+// x where mask is all ones, else y (by bits: GCC keeps a select of a division as a branch).
+inline double select(std::int64_t mask, double x, double y) {
+  std::int64_t a, b;
+  std::memcpy(&a, &x, 8);
+  std::memcpy(&b, &y, 8);
+  a = (a & mask) | (b & ~mask);
+  std::memcpy(&x, &a, 8);
+  return x;
+}
+
 // One bond (owner o, partner j): its force on the owner, zero where the bond is missing or
-// fails, and its shear history, rounded stochastically by `bits` where it holds.
+// fails, and its shear history, rounded stochastically by `bits` where it holds. With kFull,
+// the form the step kernel takes once bonds break: the intact law and the broken-bond law
+// (no tension; shear capped by friction at mu·Fn, a division) for every bond, and the one
+// its state `broken` (all ones) names kept.
 struct BondOut {
   double fx, fy;
   std::int32_t steps;
 };
+template <bool kFull>
 inline BondOut bond_law(double xo, double yo, double vxo, double vyo, double xj, double yj, double vxj,
-                        double vyj, std::int32_t q, std::int64_t m, std::uint32_t bits) {
+                        double vyj, std::int32_t q, std::int64_t m, std::int64_t broken, std::uint32_t bits) {
   double n0 = xj - xo, n1 = yj - yo;
   const double len = std::sqrt(n0 * n0 + n1 * n1);
   const double il = 1.0 / len;
   n0 *= il;
   n1 *= il;
-  const double us = q * kUnit + ((vyj - vyo) * n0 - (vxj - vxo) * n1) * kDt;
-  const double fn = kKn * (kD - len), fs = kKs * us;
-  const std::int64_t keep = m & -static_cast<std::int64_t>((fn > -kFmax) & (std::abs(fs) < kFs0 + kMu * fn));
+  double us = q * kUnit + ((vyj - vyo) * n0 - (vxj - vxo) * n1) * kDt;
+  double fn = kKn * (kD - len), fs = kKs * us;
+  std::int64_t keep = m & -static_cast<std::int64_t>((fn > -kFmax) & (std::abs(fs) < kFs0 + kMu * fn));
+  if constexpr (kFull) {
+    const double fnb = bits_and(fn, -static_cast<std::int64_t>(fn > 0));
+    const double cap = kMu * fnb, a = std::abs(fs);
+    const double scale = select(-static_cast<std::int64_t>(a > cap), cap / a, 1.0);
+    fn = select(broken, fnb, fn);
+    fs = select(broken, fs * scale, fs);
+    us = select(broken, us * scale, us);
+    keep = (m & broken) | (keep & ~broken);
+  }
   const double dither = static_cast<double>((bits >> 22) & 1023u) * 0x1p-10 + (0x1p-11 - 0.5);
   const auto s = static_cast<std::int32_t>(((us * kInv + dither) + 0x1.8p52) - 0x1.8p52);
   const auto k32 = static_cast<std::int32_t>(keep);
@@ -149,7 +179,7 @@ struct Motion {
   }
 };
 
-template <Order kOrder>
+template <Order kOrder, bool kFull>
 void bond_pass(Lattice& L, std::uint32_t salt) {
   const int n = L.n;
   const Motion M(L);
@@ -157,14 +187,16 @@ void bond_pass(Lattice& L, std::uint32_t salt) {
     const std::int32_t* __restrict P = L.csr_owner.data();
     const std::int32_t* __restrict J = L.csr_partner.data();
     const std::int64_t* __restrict mask = L.csr_mask.data();
+    const std::int64_t* __restrict brk = L.csr_broken.data();
     std::int32_t* __restrict q = L.csr_steps.data();
     double* __restrict fx = L.csr_fx.data();
     double* __restrict fy = L.csr_fy.data();
 #pragma omp simd
     for (int b = 0; b < kDirections * n; ++b) {
       const int p = P[b], j = J[b];
-      const BondOut o = bond_law(M.x[p], M.y[p], M.vx[p], M.vy[p], M.x[j], M.y[j], M.vx[j], M.vy[j], q[b],
-                                 mask[b], static_cast<std::uint32_t>(b) * 0x9e3779b1u + salt);
+      const BondOut o =
+          bond_law<kFull>(M.x[p], M.y[p], M.vx[p], M.vy[p], M.x[j], M.y[j], M.vx[j], M.vy[j], q[b], mask[b],
+                          brk[b], static_cast<std::uint32_t>(b) * 0x9e3779b1u + salt);
       fx[b] = o.fx;
       fy[b] = o.fy;
       q[b] = o.steps;
@@ -174,14 +206,16 @@ void bond_pass(Lattice& L, std::uint32_t salt) {
       const int off = L.offset[k];
       const std::int32_t* __restrict pj = L.partner[k].data();
       const std::int64_t* __restrict m = L.mask[k].data();
+      const std::int64_t* __restrict brk = L.broken[k].data();
       std::int32_t* __restrict q = L.steps[k].data();
       double* __restrict fx = L.fx[k].data() + L.pad;
       double* __restrict fy = L.fy[k].data() + L.pad;
 #pragma omp simd
       for (int p = 0; p < n; ++p) {
         const int j = kOrder == Order::kSlots ? p + off : pj[p];
-        const BondOut o = bond_law(M.x[p], M.y[p], M.vx[p], M.vy[p], M.x[j], M.y[j], M.vx[j], M.vy[j], q[p],
-                                   m[p], static_cast<std::uint32_t>(k * n + p) * 0x9e3779b1u + salt);
+        const BondOut o =
+            bond_law<kFull>(M.x[p], M.y[p], M.vx[p], M.vy[p], M.x[j], M.y[j], M.vx[j], M.vy[j], q[p], m[p],
+                            brk[p], static_cast<std::uint32_t>(k * n + p) * 0x9e3779b1u + salt);
         fx[p] = o.fx;
         fy[p] = o.fy;
         q[p] = o.steps;
@@ -237,13 +271,13 @@ void push_and_update(Lattice& L, double& dissipated) {
 }
 
 // state.range(0): rows; state.range(1): disks in a long row.
-template <Order kOrder, bool kPush>
+template <Order kOrder, bool kPush, bool kFull = false>
 void BM_Step(benchmark::State& state) {
   Lattice L(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
   double dissipated = 0;
   std::uint32_t s = 0;
   for (auto _ : state) {
-    bond_pass<kOrder>(L, ++s * 0x846ca68bu);
+    bond_pass<kOrder, kFull>(L, ++s * 0x846ca68bu);
     if constexpr (kPush)
       push_and_update<kOrder>(L, dissipated);
     else
@@ -259,6 +293,8 @@ void BM_SlotLayout(benchmark::State& state) { BM_Step<Order::kSlots, false>(stat
 void BM_Indexed(benchmark::State& state) { BM_Step<Order::kIndexed, false>(state); }
 void BM_IndexedPush(benchmark::State& state) { BM_Step<Order::kIndexed, true>(state); }
 void BM_CsrPush(benchmark::State& state) { BM_Step<Order::kCsr, true>(state); }
+void BM_SlotLayoutBroken(benchmark::State& state) { BM_Step<Order::kSlots, false, true>(state); }
+void BM_CsrPushBroken(benchmark::State& state) { BM_Step<Order::kCsr, true, true>(state); }
 
 }  // namespace
 
@@ -268,4 +304,7 @@ BENCHMARK(BM_SlotLayout)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", 
 BENCHMARK(BM_Indexed)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", "long_row"});
 BENCHMARK(BM_IndexedPush)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", "long_row"});
 BENCHMARK(BM_CsrPush)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", "long_row"});
+// After the peak: two bonds in three broken, the full form for every bond (the example only).
+BENCHMARK(BM_SlotLayoutBroken)->Args({35, 30})->ArgNames({"rows", "long_row"});
+BENCHMARK(BM_CsrPushBroken)->Args({35, 30})->ArgNames({"rows", "long_row"});
 BENCHMARK_MAIN();
