@@ -19,6 +19,8 @@
 //                   through a pending-force array (the step kernel's scalar particle loop)
 //   BM_CsrPush      bonds owner by owner, each owner's three in turn (the step kernel's
 //                   order); reactions pushed
+//   BM_CsrPull      bonds owner by owner, then each force moved into its direction's slot;
+//                   forces pulled
 // and BM_SlotLayoutBroken, BM_CsrPushBroken: the first and the last with two bonds in three
 // broken and every bond through the intact and the broken-bond law, as after the peak.
 // docs/performance.md ("Bonds in lattice slots") sets them beside the step kernel.
@@ -53,6 +55,7 @@ struct Lattice {
   std::vector<double> pend_x, pend_y;                    // pending forces (push)
   // the same bonds owner by owner (BM_CsrPush): bond b = 3·owner + direction
   std::vector<std::int32_t> csr_owner, csr_partner, csr_steps;
+  std::vector<std::uint8_t> csr_dir;
   std::vector<std::int64_t> csr_mask, csr_broken;
   std::vector<double> csr_fx, csr_fy;
 
@@ -92,6 +95,7 @@ struct Lattice {
           csr_broken.push_back(broken[k][p]);
           partner[k][p] = p + off[k];
           csr_owner.push_back(p);
+          csr_dir.push_back(static_cast<std::uint8_t>(k));
           csr_partner.push_back(p + off[k]);
           csr_mask.push_back(mask[k][p]);
         }
@@ -245,6 +249,16 @@ void pull_and_update(Lattice& L, double& dissipated) {
   dissipated += diss;
 }
 
+// The owner-by-owner bond pass's forces moved into the direction slots, bond by bond (as an
+// owner-ordered bond list must: through each bond's owner and direction).
+void csr_to_slots(Lattice& L) {
+  for (int b = 0; b < kDirections * L.n; ++b) {
+    const int k = L.csr_dir[b], p = L.csr_owner[b];
+    L.fx[k][L.pad + p] = L.csr_fx[b];
+    L.fy[k][L.pad + p] = L.csr_fy[b];
+  }
+}
+
 // Each disk takes the reactions its lower owners left, adds its own bonds' forces and passes
 // their reactions on (scalar, as the step kernel's particle loop).
 template <Order kOrder>
@@ -278,10 +292,12 @@ void BM_Step(benchmark::State& state) {
   std::uint32_t s = 0;
   for (auto _ : state) {
     bond_pass<kOrder, kFull>(L, ++s * 0x846ca68bu);
-    if constexpr (kPush)
+    if constexpr (kPush) {
       push_and_update<kOrder>(L, dissipated);
-    else
+    } else {
+      if constexpr (kOrder == Order::kCsr) csr_to_slots(L);
       pull_and_update(L, dissipated);
+    }
   }
   benchmark::DoNotOptimize(dissipated);
   state.counters["disks"] = L.n;
@@ -293,6 +309,7 @@ void BM_SlotLayout(benchmark::State& state) { BM_Step<Order::kSlots, false>(stat
 void BM_Indexed(benchmark::State& state) { BM_Step<Order::kIndexed, false>(state); }
 void BM_IndexedPush(benchmark::State& state) { BM_Step<Order::kIndexed, true>(state); }
 void BM_CsrPush(benchmark::State& state) { BM_Step<Order::kCsr, true>(state); }
+void BM_CsrPull(benchmark::State& state) { BM_Step<Order::kCsr, false>(state); }
 void BM_SlotLayoutBroken(benchmark::State& state) { BM_Step<Order::kSlots, false, true>(state); }
 void BM_CsrPushBroken(benchmark::State& state) { BM_Step<Order::kCsr, true, true>(state); }
 
@@ -304,6 +321,7 @@ BENCHMARK(BM_SlotLayout)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", 
 BENCHMARK(BM_Indexed)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", "long_row"});
 BENCHMARK(BM_IndexedPush)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", "long_row"});
 BENCHMARK(BM_CsrPush)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", "long_row"});
+BENCHMARK(BM_CsrPull)->Args({35, 30})->Args({1000, 1000})->ArgNames({"rows", "long_row"});
 // After the peak: two bonds in three broken, the full form for every bond (the example only).
 BENCHMARK(BM_SlotLayoutBroken)->Args({35, 30})->ArgNames({"rows", "long_row"});
 BENCHMARK(BM_CsrPushBroken)->Args({35, 30})->ArgNames({"rows", "long_row"});
