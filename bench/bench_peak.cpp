@@ -1,10 +1,10 @@
 // The machine's arithmetic peak, as the DEM step kernel can use it: double-precision
 // multiplies and adds in the widest vectors the build targets (512 bits with AVX-512, else
-// 256), kept apart as libdem keeps them (this file is compiled with -ffp-contract=off, as
-// libdem is: no fused multiply-add), and the square roots and divisions of a bond's length
+// 256), kept apart as libdem keeps them (this file is compiled with the step kernel's
+// options: no fused multiply-add), and the square roots and divisions of a bond's length
 // and normal, which run on a unit of their own. Independent chains in registers, so that
-// the pipes, not the latencies, set the rate. `scripts/bench bandwidth` puts these rates
-// beside the arithmetic of a DEM step.
+// the pipes, not the latencies, set the rate. `scripts/bench peak` runs it beside the
+// instruction mix of the bond pass.
 //
 //   bench_peak --benchmark_counters_tabular=true
 #include "machine_bench.hpp"

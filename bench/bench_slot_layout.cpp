@@ -10,7 +10,7 @@
 // history in 32-bit steps rounded stochastically, normal and shear springs, the tensile and
 // shear strength tests, the force), and per disk the damped leapfrog update with viscous
 // damping; left out are the reference kernel's verdicts, boundary conditions, walls, contacts
-// and the energy bookkeeping. Four variants, each a step further from the layout towards the
+// and the energy bookkeeping. Five variants, each a step further from the layout towards the
 // step kernel's present one, the arithmetic the same:
 //   BM_SlotLayout   slots; forces pulled
 //   BM_Indexed      bonds direction by direction, partners loaded through an index array
