@@ -325,6 +325,9 @@ class Model final : public ModelBase, public ModelData<D> {
   /// The skin initialise() gives the contact search.
   double start_skin() const { return settings.skin > 0 ? settings.skin : 0.5 * rad.max(); }
   int effective_threads(int nt) const;
+  /// The first particle of each thread's range (nt + 1 entries): whole blocks, each range
+  /// about equal work (thread plan).
+  std::vector<std::ptrdiff_t> thread_ranges(int nt) const;
   void build_plan(int nt);
 
   // ---- boundary conditions and driven particles (boundary.cpp) ---------------------------

@@ -295,20 +295,64 @@ int Model<D>::effective_threads(int nt) const {
 }
 
 template <int D>
+std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
+  const std::ptrdiff_t N = static_cast<std::ptrdiff_t>(n());
+  const std::ptrdiff_t nb = (N + kBlock - 1) / kBlock;
+  std::vector<std::ptrdiff_t> begin(nt + 1);
+  for (int t = 0; t <= nt; ++t) begin[t] = std::min(N, nb * t / nt * kBlock);
+  if (nt == 1) return begin;
+  // The work of a block: its particles' updates and its pairs, alike each (in units of a bond
+  // through the batch form). A cross pair takes the reference kernel and a slot, about
+  // kCrossCost such units (phase A), on the thread of its partner; with the ranges of equal
+  // blocks the later threads would compute them on top of an equal share.
+  constexpr double kCrossCost = 3.0;
+  std::vector<double> sum(static_cast<std::size_t>(nb) + 1, 0.0);  // the work of blocks 0..b-1
+  for (std::ptrdiff_t blk = 0; blk < nb; ++blk) {
+    const std::ptrdiff_t p0 = blk * kBlock, pe = std::min(N, p0 + kBlock);
+    sum[blk + 1] = sum[blk] + static_cast<double>(pe - p0) + (bonds.off[pe] - bonds.off[p0]) +
+                   (contacts.off[pe] - contacts.off[p0]);
+  }
+  std::vector<double> cross(nt, 0.0);  // the cross pairs each thread computes
+  for (int t = 0; t + 1 < nt; ++t) {
+    const auto e = static_cast<std::uint32_t>(begin[t + 1]);
+    for (const PairList* L : {&bonds, &contacts})
+      for (std::uint32_t k = L->off[begin[t]]; k < L->off[e]; ++k)
+        if (L->j[k] >= e) [[unlikely]]
+          cross[std::upper_bound(begin.begin(), begin.end(), std::ptrdiff_t{L->j[k]}) - begin.begin() - 1] +=
+              1;
+  }
+  double total = sum[nb];
+  for (const double x : cross) total += kCrossCost * x;
+  // each thread's blocks: an equal share of the work, less the cross pairs it computes
+  double share = 0;
+  std::ptrdiff_t prev = 0;
+  for (int t = 0; t + 1 < nt; ++t) {
+    share += total / nt - kCrossCost * cross[t];
+    std::ptrdiff_t b = std::lower_bound(sum.begin(), sum.end(), share) - sum.begin();
+    if (b > nb || (b > 0 && share - sum[b - 1] < sum[b] - share)) --b;
+    b = std::clamp(b, prev, nb);
+    begin[t + 1] = std::min(N, b * kBlock);
+    prev = b;
+  }
+  return begin;
+}
+
+template <int D>
 void Model<D>::build_plan(int nt) {
   const std::size_t N = n();
   const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((N + kBlock - 1) / kBlock);
   nt = effective_threads(nt);
   plan = Plan{};
   plan.nt = nt;
-  plan.begin.resize(nt + 1);
-  for (int t = 0; t <= nt; ++t)
-    plan.begin[t] = std::min<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(N), nb * t / nt * kBlock);
+  plan.begin = thread_ranges(nt);
   plan.own_b.assign(nt, {});
   plan.own_c.assign(nt, {});
   plan.in.assign(nt, {});
   plan.base_b.assign(nt + 1, 0);
   plan.base_c.assign(nt + 1, 0);
+  plan.calc.assign(nt, {});
+  plan.waits.assign(nt, {});
+  plan.done.assign(static_cast<std::size_t>(nt) * Plan::kFlagStride, 0);
   evbuf.resize(nt);
   bond_us.fresh.resize(static_cast<std::size_t>(nt));
   scratch.resize(nt);
@@ -330,6 +374,36 @@ void Model<D>::build_plan(int nt) {
                  plan.begin.begin()) -
              1;
     };
+    // each cross pair computed by its partner's thread, in ascending owner
+    for (int t = 0; t < nt; ++t) {
+      for (std::size_t s = 0; s < plan.own_b[t].size(); ++s) {
+        const auto [p, k] = plan.own_b[t][s];
+        plan.calc[thread_of(bonds.j[k])].push_back(
+            {p, k, static_cast<std::uint32_t>(plan.base_b[t] + s), false});
+      }
+      for (std::size_t s = 0; s < plan.own_c[t].size(); ++s) {
+        const auto [p, k] = plan.own_c[t][s];
+        plan.calc[thread_of(contacts.j[k])].push_back(
+            {p, k, static_cast<std::uint32_t>(plan.base_c[t] + s), true});
+      }
+    }
+    for (auto& calc : plan.calc)
+      std::stable_sort(calc.begin(), calc.end(),
+                       [](const CrossPair& a, const CrossPair& b) { return a.owner < b.owner; });
+    // each owner's thread waits, before a block holding owners of cross pairs computed by a
+    // later thread, until that thread has computed its list up to the block's end
+    for (int u = 0; u < nt; ++u) {
+      const auto& calc = plan.calc[u];
+      for (std::size_t i = 0; i < calc.size(); ++i) {
+        const std::ptrdiff_t blk = calc[i].owner / kBlock;
+        if (i + 1 < calc.size() && calc[i + 1].owner / kBlock == blk) continue;  // the block's last
+        plan.waits[thread_of(calc[i].owner)].push_back({blk, u, i + 1});
+      }
+    }
+    for (auto& w : plan.waits)
+      std::sort(w.begin(), w.end(), [](const CrossWait& a, const CrossWait& b) {
+        return a.blk != b.blk ? a.blk < b.blk : a.by < b.by;
+      });
     // incoming lists in ascending owner order (bonds before contacts of the same owner)
     for (int t = 0; t < nt; ++t) {
       std::size_t ib = 0, ic = 0;
@@ -374,7 +448,8 @@ void Model<D>::build_plan(int nt) {
   template void Model<D>::rebuild_contacts();                                                             \
   template void Model<D>::take_contacts(PairList);                                                        \
   template int Model<D>::effective_threads(int) const;                                                    \
-  template void Model<D>::build_plan(int);
+  template void Model<D>::build_plan(int);                                                                \
+  template std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int) const;
 STRATA_DEM_INSTANTIATE(2)
 STRATA_DEM_INSTANTIATE(3)
 #undef STRATA_DEM_INSTANTIATE

@@ -338,16 +338,41 @@ struct PendingPool {
   std::vector<std::int32_t> spare;  // slots free for reuse
 };
 
+/// A cross pair as the thread of its partner computes it: its owner, its index in its list
+/// (bonds or contacts) and its slot.
+struct CrossPair {
+  std::uint32_t owner, pair, slot;
+  bool contact;
+};
+
+/// Where a thread must wait for another's cross pairs: before block `blk`, until thread `by`
+/// has computed the first `count` of its list (those owned before the block's end).
+struct CrossWait {
+  std::ptrdiff_t blk;
+  int by;
+  std::size_t count;
+};
+
 /// Thread plan (rebuilt when the thread count or the contact lists change): contiguous
 /// ranges of whole blocks; pairs whose partner lies in a later thread's range ("cross
-/// pairs") are computed first (phase A), stored in slots, and gathered by both ends in the
-/// same order as in a one-thread run.
+/// pairs") are computed into slots, and gathered by both ends in the same order as in a
+/// one-thread run. The thread of the partner computes them (phase A), in ascending owner,
+/// before it moves any of its particles, counting them in its flag; the thread of the owner
+/// reads that count before each block holding such owners, so that no thread waits at a
+/// barrier for another's phase A.
 struct Plan {
   int nt = 0;
   std::vector<std::ptrdiff_t> begin;
   std::vector<std::vector<std::array<std::uint32_t, 2>>> own_b, own_c;  // (owner, pair)
   std::vector<std::size_t> base_b, base_c;
   std::vector<std::vector<Incoming>> in;
+  std::vector<std::vector<CrossPair>> calc;   // per thread: the cross pairs it computes
+  std::vector<std::vector<CrossWait>> waits;  // per thread, in block order
+  /// Per thread, a cache line apart: the cross pairs it has computed since the plan was
+  /// built (atomic_ref), calc.size() per step; `epoch` counts the steps begun.
+  static constexpr std::size_t kFlagStride = 8;
+  std::vector<std::int64_t> done;
+  std::int64_t epoch = 0;
 };
 
 /// Per-thread scratch of the bond pass of one block: each bond's force on its owner, its
@@ -450,7 +475,7 @@ struct ModelData {
   /// Block blk of thread t (whose range ends at particle e) is updated: its ring entries
   /// are zeroed, and the block kRingBlocks ahead, which takes its place in the ring, brings
   /// the forces it has pending so far from its groups' slots.
-  void pending_advance(int t, std::ptrdiff_t blk, std::ptrdiff_t e) {
+  [[gnu::noinline]] void pending_advance(int t, std::ptrdiff_t blk, std::ptrdiff_t e) {
     PendingPool& P = pend[t];
     const std::size_t at = static_cast<std::size_t>(blk % kRingBlocks) * kBlock;
     const std::ptrdiff_t nb = blk + kRingBlocks;

@@ -4,19 +4,22 @@
 // the probes that evaluate pair forces. libdem compiles it for every built-in law
 // (libdem/src/step.cpp); register_law() compiles it for a law added from outside.
 //
-// One step, per thread on a contiguous range [b, e) of whole blocks: phase A computes the
-// pairs owned in the range whose partner lies in a later range into slots; phase B gathers
-// the incoming slots, then block by block runs the bond pass and updates the particles,
-// computing each contact on the way. Every particle's force is summed in the same order
-// for any thread count (docs/dem.md, "Memory layout and the step loop").
+// One step, per thread on a contiguous range [b, e) of whole blocks: phase A computes into
+// slots the pairs whose partner lies in the range and whose owner lies in an earlier one;
+// phase B gathers those slots, then block by block runs the bond pass and updates the
+// particles, computing each contact on the way (a block owning pairs that a later thread
+// computes waits until it has). Every particle's force is summed in the same order for any
+// thread count (docs/dem.md, "Memory layout and the step loop").
 #include <strata/core/parallel.hpp>
 #include <strata/dem/detail/bond_pass.hpp>
 #include <strata/dem/detail/law_engine.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <thread>
 #include <vector>
 
 namespace strata::dem::detail {
@@ -64,10 +67,14 @@ class Engine final : public LawEngine<D> {
   /// One pair: geometry (normal, tangential increment, turning of the stored shear
   /// displacement into the current tangent plane), then the law's reference kernel. F
   /// receives the force on the owner p; returns the pair's energy when kEnergy.
+  /// Out of line, as are the other rare paths of the step (law_for, record, bond_force,
+  /// ModelData::pending_advance): GCC's inlining of them changes with their number of
+  /// callers, and inlined into phase_b or bond_block they cost the step loop registers (6 %
+  /// on one thread, 10^6 disks, when phase A's calls were rearranged).
   template <bool kEnergy>
-  static inline double pair_force(const double* const* X, const double* const* V, double rest, std::size_t p,
-                                  std::uint32_t j, std::uint8_t& st, double* us, const Law& law, double dt,
-                                  double* F, int& broke) {
+  [[gnu::noinline]] static double pair_force(const double* const* X, const double* const* V, double rest,
+                                             std::size_t p, std::uint32_t j, std::uint8_t& st, double* us,
+                                             const Law& law, double dt, double* F, int& broke) {
     double n[D], len2 = 0;
     for (int a = 0; a < D; ++a) {
       n[a] = X[a][j] - X[a][p];
@@ -195,7 +202,8 @@ class Engine final : public LawEngine<D> {
   }
   /// The law of pair k of L: the materials' law, for an intact bond given as data with its
   /// stiffness factor (eccentric lattices: k -> γ·k) and its strength factor.
-  Law law_for(const ModelData<D>& m, const PairList& L, std::uint32_t k, std::size_t p, std::size_t j) const {
+  [[gnu::noinline]] Law law_for(const ModelData<D>& m, const PairList& L, std::uint32_t k, std::size_t p,
+                                std::size_t j) const {
     return m.scaled(L, k) ? bond_law(law_of(m, p, j), L.kf[k], L.sf[k]) : law_of(m, p, j);
   }
 
@@ -225,7 +233,8 @@ class Engine final : public LawEngine<D> {
     for (std::uint32_t k = m.contacts.off[p]; k < m.contacts.off[p + 1]; ++k) one(m.contacts, k);
   }
 
-  static void record(ModelData<D>& m, int t, std::int64_t step, std::size_t p, std::uint32_t j, int mode) {
+  [[gnu::noinline, gnu::cold]] static void record(ModelData<D>& m, int t, std::int64_t step, std::size_t p,
+                                                  std::uint32_t j, int mode) {
     RawEvent ev{step, {0, 0, 0}, static_cast<std::uint8_t>(mode), static_cast<std::uint32_t>(p), j};
     for (int a = 0; a < D; ++a) ev.pos[a] = 0.5 * (m.x[a][p] + m.x[a][j]);
     m.evbuf[t].push_back(ev);
@@ -234,8 +243,9 @@ class Engine final : public LawEngine<D> {
   /// pair_force on bond k of thread t's step, with its shear history taken from the bonds'
   /// store and put back.
   template <bool kEnergy>
-  double bond_force(ModelData<D>& m, int t, const StepCtx& c, const double* const* X, const double* const* V,
-                    std::size_t p, std::uint32_t k, double* F, int& broke) const {
+  [[gnu::noinline]] double bond_force(ModelData<D>& m, int t, const StepCtx& c, const double* const* X,
+                                      const double* const* V, std::size_t p, std::uint32_t k, double* F,
+                                      int& broke) const {
     const std::uint32_t j = m.bonds.j[k];
     double us[kNs];
     m.load_us(m.bonds, k, us);
@@ -247,7 +257,8 @@ class Engine final : public LawEngine<D> {
     return e;
   }
 
-  // Phase A: the cross pairs this thread owns.
+  // Phase A: the cross pairs whose partner lies in this thread's range (their owners lie in
+  // earlier threads' ranges, which do not move them before this thread's count says so).
   template <bool kEnergy>
   void phase_a(ModelData<D>& m, int t, const StepCtx& c) const {
     const double* X[D];
@@ -256,26 +267,46 @@ class Engine final : public LawEngine<D> {
       X[a] = m.x[a].data();
       V[a] = m.v[a].data();
     }
-    auto run_list = [&](const std::vector<std::array<std::uint32_t, 2>>& own, std::size_t base, PairList& L,
-                        std::vector<double>& slots) {
-      const bool is_bonds = &L == &m.bonds;
-      for (std::size_t s = 0; s < own.size(); ++s) {
-        const std::uint32_t p = own[s][0], k = own[s][1], j = L.j[k];
-        double F[D], none[kNs];
-        int broke = 0;
-        const double e = is_bonds ? bond_force<kEnergy>(m, t, c, X, V, p, k, F, broke)
-                                  : pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k],
-                                                        ModelData<D>::us_of(L, k, none),
-                                                        law_for(m, L, k, p, j), c.dt, F, broke);
-        if (broke) [[unlikely]]
-          record(m, t, c.step, p, j, broke);
-        double* out = &slots[(base + s) * (D + 1)];
-        for (int a = 0; a < D; ++a) out[a] = F[a];
-        out[D] = e;
+    const std::vector<CrossPair>& calc = m.plan.calc[t];
+    std::atomic_ref<std::int64_t> count(m.plan.done[t * Plan::kFlagStride]);
+    std::int64_t n = (m.plan.epoch - 1) * static_cast<std::int64_t>(calc.size());
+    for (const CrossPair& x : calc) {
+      const std::uint32_t p = x.owner, k = x.pair;
+      double F[D], none[kNs];
+      int broke = 0;
+      double e;
+      if (!x.contact) {
+        e = bond_force<kEnergy>(m, t, c, X, V, p, k, F, broke);
+      } else {
+        PairList& L = m.contacts;
+        const std::uint32_t j = L.j[k];
+        e = pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k], ModelData<D>::us_of(L, k, none),
+                                law_for(m, L, k, p, j), c.dt, F, broke);
       }
-    };
-    run_list(m.plan.own_b[t], m.plan.base_b[t], m.bonds, m.cross_b);
-    run_list(m.plan.own_c[t], m.plan.base_c[t], m.contacts, m.cross_c);
+      if (broke) [[unlikely]]
+        record(m, t, c.step, p, x.contact ? m.contacts.j[k] : m.bonds.j[k], broke);
+      double* out = &(x.contact ? m.cross_c : m.cross_b)[std::size_t{x.slot} * (D + 1)];
+      for (int a = 0; a < D; ++a) out[a] = F[a];
+      out[D] = e;
+      count.store(++n, std::memory_order_release);
+    }
+  }
+
+  /// Waits until the threads that compute the cross pairs owned in block blk of thread t's
+  /// range have done so in this step, from t's wait w on; returns the next wait. Out of line:
+  /// a few blocks of a range have any, and the step loop keeps its registers.
+  [[gnu::noinline]] static std::size_t wait_for_cross_pairs(ModelData<D>& m, int t, std::ptrdiff_t blk,
+                                                            std::size_t w) {
+    const std::vector<CrossWait>& waits = m.plan.waits[t];
+    for (; w < waits.size() && waits[w].blk == blk; ++w) {
+      const CrossWait& cw = waits[w];
+      const std::int64_t goal = (m.plan.epoch - 1) * static_cast<std::int64_t>(m.plan.calc[cw.by].size()) +
+                                static_cast<std::int64_t>(cw.count);
+      std::atomic_ref<std::int64_t> count(m.plan.done[cw.by * Plan::kFlagStride]);
+      for (int spins = 0; count.load(std::memory_order_acquire) < goal; ++spins)
+        if (spins >= 256) std::this_thread::yield();  // the other thread is not running now
+    }
+    return w;
   }
 
   /// One velocity component through the damped leapfrog update; returns v(n+½).
@@ -459,11 +490,18 @@ class Engine final : public LawEngine<D> {
       pend_sub(in.target, s);
     }
     std::size_t cur_b = m.plan.base_b[t], cur_c = m.plan.base_c[t];
+    std::size_t next_wait = 0;  // the next of the waits for cross pairs, and its block (-1: none)
+    std::ptrdiff_t next_wait_blk = m.plan.waits[t].empty() ? -1 : m.plan.waits[t][0].blk;
     auto bc_it = std::lower_bound(m.bcp.begin(), m.bcp.end(), static_cast<std::uint32_t>(b),
                                   [](const BcParticle& q, std::uint32_t i) { return q.index < i; });
 
     for (std::ptrdiff_t blk = b / kBlock; blk * kBlock < e; ++blk) {
       const std::ptrdiff_t pe = std::min(e, (blk + 1) * kBlock);
+      // the block's cross pairs computed by later threads, before they are read and their owners move
+      if (blk == next_wait_blk) [[unlikely]] {
+        next_wait = wait_for_cross_pairs(m, t, blk, next_wait);
+        next_wait_blk = next_wait < m.plan.waits[t].size() ? m.plan.waits[t][next_wait].blk : -1;
+      }
       double work = 0, work_ex = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0, vfree2 = 0;
       if (!m.bonds.r0.empty())
         bond_block<kEnergy, kPerBond>(m, t, c, blk * kBlock, pe, e);
@@ -629,6 +667,7 @@ class Engine final : public LawEngine<D> {
   template <Damping DK, bool kEnergy>
   void step_once(ModelData<D>& m, const StepCtx& c) const {
     const int nt = m.plan.nt;
+    ++m.plan.epoch;
     par::parallel_team(nt, [&](int t, int team) {
       if (team != nt) {  // fewer threads than planned: run the plan serially on thread 0
         if (t == 0) {
@@ -637,10 +676,7 @@ class Engine final : public LawEngine<D> {
         }
         return;
       }
-      if (nt > 1) {
-        phase_a<kEnergy>(m, t, c);
-        par::team_barrier();
-      }
+      phase_a<kEnergy>(m, t, c);
       phase_b<DK, kEnergy>(m, t, c);
     });
   }
