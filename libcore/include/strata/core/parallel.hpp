@@ -76,9 +76,8 @@ T parallel_sum(std::ptrdiff_t n, F&& f) {
 }
 
 /// Runs f(thread, team_size) once on each of `nthreads` threads of one team (f(0, 1) when
-/// nthreads <= 1 or without OpenMP). Inside f, threads may meet at team_barrier(). The team
-/// may be smaller than asked for (OpenMP is allowed to give fewer threads): f must check
-/// team_size and cope.
+/// nthreads <= 1 or without OpenMP). The team may be smaller than asked for (OpenMP is
+/// allowed to give fewer threads): f must check team_size and cope.
 template <typename F>
 void parallel_team(int nthreads, F&& f) {
 #if STRATA_WITH_OPENMP
@@ -89,13 +88,6 @@ void parallel_team(int nthreads, F&& f) {
   }
 #endif
   f(0, 1);
-}
-
-/// Barrier of the team running inside parallel_team (no-op outside one).
-inline void team_barrier() {
-#if STRATA_WITH_OPENMP
-#pragma omp barrier
-#endif
 }
 
 }  // namespace strata::par
