@@ -294,6 +294,13 @@ int Model<D>::effective_threads(int nt) const {
       std::max<std::ptrdiff_t>(1, std::min<std::ptrdiff_t>({nt, nb, std::max<std::ptrdiff_t>(by_size, 1)})));
 }
 
+namespace {
+/// The thread whose range holds particle i, for ranges starting at begin (nt + 1 entries).
+int thread_holding(const std::vector<std::ptrdiff_t>& begin, std::ptrdiff_t i) {
+  return static_cast<int>(std::upper_bound(begin.begin(), begin.end(), i) - begin.begin()) - 1;
+}
+}  // namespace
+
 template <int D>
 std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
   const std::ptrdiff_t N = static_cast<std::ptrdiff_t>(n());
@@ -318,8 +325,7 @@ std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
     for (const PairList* L : {&bonds, &contacts})
       for (std::uint32_t k = L->off[begin[t]]; k < L->off[e]; ++k)
         if (L->j[k] >= e) [[unlikely]]
-          cross[std::upper_bound(begin.begin(), begin.end(), std::ptrdiff_t{L->j[k]}) - begin.begin() - 1] +=
-              1;
+          cross[thread_holding(begin, L->j[k])] += 1;
   }
   double total = sum[nb];
   for (const double x : cross) total += kCrossCost * x;
@@ -345,8 +351,6 @@ void Model<D>::build_plan(int nt) {
   plan = Plan{};
   plan.nt = nt;
   plan.begin = thread_ranges(nt);
-  plan.own_b.assign(nt, {});
-  plan.own_c.assign(nt, {});
   plan.in.assign(nt, {});
   plan.base_b.assign(nt + 1, 0);
   plan.base_c.assign(nt + 1, 0);
@@ -357,39 +361,36 @@ void Model<D>::build_plan(int nt) {
   bond_us.fresh.resize(static_cast<std::size_t>(nt));
   scratch.resize(nt);
   if (nt > 1) {
+    // the cross pairs each thread owns, (owner, pair) in ascending owner; their slots follow
+    // one another thread by thread from base_b[t] and base_c[t]
+    std::vector<std::vector<std::array<std::uint32_t, 2>>> own_b(nt), own_c(nt);
     for (int t = 0; t < nt; ++t) {
       const auto b = plan.begin[t], e = plan.begin[t + 1];
       for (std::ptrdiff_t p = b; p < e; ++p) {
         for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
-          if (bonds.j[k] >= e) plan.own_b[t].push_back({static_cast<std::uint32_t>(p), k});
+          if (bonds.j[k] >= e) own_b[t].push_back({static_cast<std::uint32_t>(p), k});
         for (std::uint32_t k = contacts.off[p]; k < contacts.off[p + 1]; ++k)
-          if (contacts.j[k] >= e) plan.own_c[t].push_back({static_cast<std::uint32_t>(p), k});
+          if (contacts.j[k] >= e) own_c[t].push_back({static_cast<std::uint32_t>(p), k});
       }
-      plan.base_b[t + 1] = plan.base_b[t] + plan.own_b[t].size();
-      plan.base_c[t + 1] = plan.base_c[t] + plan.own_c[t].size();
+      plan.base_b[t + 1] = plan.base_b[t] + own_b[t].size();
+      plan.base_c[t + 1] = plan.base_c[t] + own_c[t].size();
     }
-    auto thread_of = [&](std::uint32_t j) {
-      return static_cast<int>(
-                 std::upper_bound(plan.begin.begin(), plan.begin.end(), static_cast<std::ptrdiff_t>(j)) -
-                 plan.begin.begin()) -
-             1;
-    };
-    // each cross pair computed by its partner's thread, in ascending owner
+    auto thread_of = [&](std::ptrdiff_t i) { return thread_holding(plan.begin, i); };
+    // each cross pair, in ascending owner (bonds before contacts of the same owner), goes to
+    // its partner's thread twice: to compute it (calc) and to gather it (in)
     for (int t = 0; t < nt; ++t) {
-      for (std::size_t s = 0; s < plan.own_b[t].size(); ++s) {
-        const auto [p, k] = plan.own_b[t][s];
-        plan.calc[thread_of(bonds.j[k])].push_back(
-            {p, k, static_cast<std::uint32_t>(plan.base_b[t] + s), false});
-      }
-      for (std::size_t s = 0; s < plan.own_c[t].size(); ++s) {
-        const auto [p, k] = plan.own_c[t][s];
-        plan.calc[thread_of(contacts.j[k])].push_back(
-            {p, k, static_cast<std::uint32_t>(plan.base_c[t] + s), true});
+      std::size_t ib = 0, ic = 0;
+      const auto& ob = own_b[t];
+      const auto& oc = own_c[t];
+      while (ib < ob.size() || ic < oc.size()) {
+        const bool take_b = ic >= oc.size() || (ib < ob.size() && ob[ib][0] <= oc[ic][0]);
+        const auto [p, k] = take_b ? ob[ib] : oc[ic];
+        const std::uint32_t j = (take_b ? bonds : contacts).j[k];
+        const auto slot = static_cast<std::uint32_t>(take_b ? plan.base_b[t] + ib++ : plan.base_c[t] + ic++);
+        plan.calc[thread_of(j)].push_back({p, k, slot, !take_b});
+        plan.in[thread_of(j)].push_back({slot, j, !take_b});
       }
     }
-    for (auto& calc : plan.calc)
-      std::stable_sort(calc.begin(), calc.end(),
-                       [](const CrossPair& a, const CrossPair& b) { return a.owner < b.owner; });
     // each owner's thread waits, before a block holding owners of cross pairs computed by a
     // later thread, until that thread has computed its list up to the block's end
     for (int u = 0; u < nt; ++u) {
@@ -404,24 +405,6 @@ void Model<D>::build_plan(int nt) {
       std::sort(w.begin(), w.end(), [](const CrossWait& a, const CrossWait& b) {
         return a.blk != b.blk ? a.blk < b.blk : a.by < b.by;
       });
-    // incoming lists in ascending owner order (bonds before contacts of the same owner)
-    for (int t = 0; t < nt; ++t) {
-      std::size_t ib = 0, ic = 0;
-      const auto& ob = plan.own_b[t];
-      const auto& oc = plan.own_c[t];
-      while (ib < ob.size() || ic < oc.size()) {
-        const bool take_b = ic >= oc.size() || (ib < ob.size() && ob[ib][0] <= oc[ic][0]);
-        if (take_b) {
-          const std::uint32_t j = bonds.j[ob[ib][1]];
-          plan.in[thread_of(j)].push_back({static_cast<std::uint32_t>(plan.base_b[t] + ib), j, false});
-          ++ib;
-        } else {
-          const std::uint32_t j = contacts.j[oc[ic][1]];
-          plan.in[thread_of(j)].push_back({static_cast<std::uint32_t>(plan.base_c[t] + ic), j, true});
-          ++ic;
-        }
-      }
-    }
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
   bond_owner.clear();

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -363,16 +364,23 @@ struct CrossWait {
 struct Plan {
   int nt = 0;
   std::vector<std::ptrdiff_t> begin;
-  std::vector<std::vector<std::array<std::uint32_t, 2>>> own_b, own_c;  // (owner, pair)
-  std::vector<std::size_t> base_b, base_c;
+  std::vector<std::size_t> base_b, base_c;  // each thread's first slot of the cross pairs it owns
   std::vector<std::vector<Incoming>> in;
   std::vector<std::vector<CrossPair>> calc;   // per thread: the cross pairs it computes
   std::vector<std::vector<CrossWait>> waits;  // per thread, in block order
   /// Per thread, a cache line apart: the cross pairs it has computed since the plan was
-  /// built (atomic_ref), calc.size() per step; `epoch` counts the steps begun.
+  /// built, calc.size() per step; `epoch` counts the steps begun.
   static constexpr std::size_t kFlagStride = 8;
   std::vector<std::int64_t> done;
   std::int64_t epoch = 0;
+  /// Thread u's count of computed cross pairs, shared between threads.
+  std::atomic_ref<std::int64_t> counter(int u) {
+    return std::atomic_ref<std::int64_t>(done[u * kFlagStride]);
+  }
+  /// Thread u's count when this step began.
+  std::int64_t counted_before_step(int u) const {
+    return (epoch - 1) * static_cast<std::int64_t>(calc[u].size());
+  }
 };
 
 /// Per-thread scratch of the bond pass of one block: each bond's force on its owner, its

@@ -268,8 +268,8 @@ class Engine final : public LawEngine<D> {
       V[a] = m.v[a].data();
     }
     const std::vector<CrossPair>& calc = m.plan.calc[t];
-    std::atomic_ref<std::int64_t> count(m.plan.done[t * Plan::kFlagStride]);
-    std::int64_t n = (m.plan.epoch - 1) * static_cast<std::int64_t>(calc.size());
+    std::atomic_ref<std::int64_t> count = m.plan.counter(t);
+    std::int64_t n = m.plan.counted_before_step(t);
     for (const CrossPair& x : calc) {
       const std::uint32_t p = x.owner, k = x.pair;
       double F[D], none[kNs];
@@ -300,9 +300,8 @@ class Engine final : public LawEngine<D> {
     const std::vector<CrossWait>& waits = m.plan.waits[t];
     for (; w < waits.size() && waits[w].blk == blk; ++w) {
       const CrossWait& cw = waits[w];
-      const std::int64_t goal = (m.plan.epoch - 1) * static_cast<std::int64_t>(m.plan.calc[cw.by].size()) +
-                                static_cast<std::int64_t>(cw.count);
-      std::atomic_ref<std::int64_t> count(m.plan.done[cw.by * Plan::kFlagStride]);
+      const std::int64_t goal = m.plan.counted_before_step(cw.by) + static_cast<std::int64_t>(cw.count);
+      std::atomic_ref<std::int64_t> count = m.plan.counter(cw.by);
       for (int spins = 0; count.load(std::memory_order_acquire) < goal; ++spins)
         if (spins >= 256) std::this_thread::yield();  // the other thread is not running now
     }
