@@ -93,12 +93,13 @@ std::string bench_dem_json(const BenchDemOptions& o) {
       "\"model_bytes_per_particle\": {:.1f}, \"streamed_bytes_per_particle_step\": {:.1f}, "
       "\"streamed_gb_per_s\": {:.4g}, \"dt\": {:.6g}, \"dt_over_dt_crit\": {:.4g}, \"broken_bonds\": "
       "{}, "
-      "\"contacts\": {}, \"setup_seconds\": {:.4g}, \"state_hash\": \"{:016x}\"}}",
+      "\"contacts\": {}, \"setup_seconds\": {:.4g}, \"steps_in_lattice_slots\": {}, \"state_hash\": "
+      "\"{:016x}\"}}",
       o.dim, o.dim == 2 ? "hex" : o.lattice, o.normal_only ? "normal" : "normal and shear", side, n,
       sim.bond_count(), o.steps, threads, secs, nn * static_cast<double>(o.steps) / secs, (hwm - rss0) / nn,
       static_cast<double>(sim.memory_bytes()) / nn, streamed / nn,
       streamed * static_cast<double>(o.steps) / secs * 1e-9, sim.dt(), sim.dt() / sim.critical_dt(),
-      sim.broken_count(), sim.contact_count(), setup, sim.state_hash());
+      sim.broken_count(), sim.contact_count(), setup, sim.steps_in_lattice_slots(), sim.state_hash());
 }
 
 }  // namespace strata::app

@@ -104,6 +104,7 @@ void Model<D>::pair_matrix(std::size_t p, std::uint32_t j, const PairStiffness& 
 // Largest stiffness of the model's pair laws.
 template <int D>
 double Model<D>::max_stiffness() const {
+  bonds_current();
   double kmax = 0;
   for (const PairStiffness& s : stiff) kmax = std::max(kmax, std::max(s.kn, s.ks));
   return kmax;
@@ -111,6 +112,7 @@ double Model<D>::max_stiffness() const {
 
 template <int D>
 void Model<D>::compute_critical_dt() {
+  bonds_current();
   const std::size_t N = n();
   log::Phases ph("critical time step");
   // rigorous bound: uᵀKu <= Σ_b 2(u_iᵀK_b u_i + u_jᵀK_b u_j) => λ <= max_i λmax(2ΣK_b)/m_i
@@ -251,6 +253,7 @@ void Model<D>::compute_critical_dt() {
 // converges first and stays below λmax), deterministic start vector.
 template <int D>
 double Model<D>::lanczos() const {
+  bonds_current();
   // up to 600 unknowns: full reorthogonalisation and as many steps as unknowns (exact
   // extreme eigenvalue); otherwise 120 steps, with float vectors above 20,000 unknowns to
   // keep the set-up's memory peak low. Above 200,000 particles the iteration stops as soon
@@ -272,6 +275,7 @@ double Model<D>::lanczos() const {
 // thread count.
 template <int D>
 double Model<D>::layer_mode_quotient() const {
+  bonds_current();
   const std::size_t N = n();
   const double d = 2 * rad.max();
   const double h = D == 3 ? d * std::sqrt(2.0 / 3.0) : d * std::sqrt(3.0) / 2;

@@ -1,5 +1,6 @@
-// The DEM model's storage: structure-of-arrays particles, ids and groups, the spatial
-// (Morton) order that keeps bond endpoints close in memory, and read access for writers.
+// The DEM model's storage: structure-of-arrays particles, ids and groups, the spatial order
+// that keeps bond endpoints close in memory (Morton; row by row for a 2D lattice whose bonds
+// then sit in lattice slots), and read access for writers.
 // Physics and design notes: docs/dem.md.
 #include "model.hpp"
 
@@ -139,10 +140,17 @@ std::vector<std::uint32_t> Model<D>::members(std::uint32_t group) const {
   return out;
 }
 
-// Spatial sort (Morton order) so bond endpoints are close in memory.
+// Spatial sort (Morton order) so bond endpoints are close in memory; with rows_allowed, a 2D
+// model added row by row keeps that order for now (keep_rows_if_lattice decides after
+// bonding).
 template <int D>
-void Model<D>::sort_particles() {
+void Model<D>::sort_particles(bool rows_allowed) {
   const std::size_t N = n();
+  if (rows_allowed && added_in_rows()) {
+    rows_kept = true;
+    sorted = true;
+    return;
+  }
   double lo[3], hi[3];
   for (int a = 0; a < D; ++a) {
     const auto [mn, mx] = std::minmax_element(x[a].begin(), x[a].end());
@@ -168,6 +176,40 @@ void Model<D>::sort_particles() {
             [&](std::uint32_t p, std::uint32_t q) { return code[p] != code[q] ? code[p] < code[q] : p < q; });
   code.clear();
   code.shrink_to_fit();
+  reorder(perm);
+}
+
+// Whether a 2D model's particles were added row by row: ascending y, then ascending x (a
+// lattice region's generator adds them so). Such a model keeps that order through bonding,
+// and afterwards if every bond then sits in lattice slots (keep_rows_if_lattice).
+template <int D>
+bool Model<D>::added_in_rows() const {
+  if constexpr (D == 2) {
+    for (std::size_t i = 1; i < n(); ++i)
+      if (!(x[1][i] > x[1][i - 1] || (x[1][i] == x[1][i - 1] && x[0][i] > x[0][i - 1]))) return false;
+    return n() > 1;
+  }
+  return false;
+}
+
+// After bonding a model kept in the order it was added row by row: that order stays where it
+// puts every bond in lattice slots (a 2D lattice whose bond pass can then run direction by
+// direction, LatticeSlots), else the Morton order replaces it (and the contact candidates
+// found with the bonds are dropped: initialise() searches again).
+template <int D>
+void Model<D>::keep_rows_if_lattice() {
+  if (!rows_kept) return;
+  rows_kept = false;
+  if (bonds.r0.empty() && lattice_slots(bonds, n(), D).n > 0) return;
+  sort_particles();
+  found_contacts = PairList{};
+}
+
+// Particles and bonds renumbered as new index i = old index perm[i]; contacts cleared.
+template <int D>
+void Model<D>::reorder(const std::vector<std::uint32_t>& perm) {
+  slots_release();
+  const std::size_t N = n();
   // Bonds: remember them by pairs of new indices and rebuild the CSR.
   std::vector<std::uint32_t> inv;
   std::vector<std::array<std::uint32_t, 2>> pairs;
@@ -293,6 +335,7 @@ void for_each_bond_end(const PairList& bonds, std::size_t n, F&& f) {
 
 template <int D>
 std::vector<std::uint8_t> Model<D>::bond_counts() const {
+  bonds_current();
   std::vector<std::uint8_t> count(n(), 0);
   for_each_bond_end(bonds, n(),
                     [&](std::size_t i, bool) { count[i] = std::uint8_t(count[i] + (count[i] < 255)); });
@@ -301,6 +344,7 @@ std::vector<std::uint8_t> Model<D>::bond_counts() const {
 
 template <int D>
 std::vector<float> Model<D>::damage(Rows rows) const {
+  bonds_current();
   std::vector<std::uint32_t> tot(n(), 0), brk(n(), 0);
   for_each_bond_end(bonds, n(), [&](std::size_t i, bool broken) {
     ++tot[i];
@@ -326,6 +370,8 @@ std::size_t Model<D>::memory_bytes() const {
   for (const PendingPool& P : pend)
     b += (P.ring.capacity() + P.buf.capacity()) * sizeof(double) + P.spare.capacity() * 4;
   b += events.capacity() * sizeof(BreakEvent);
+  b += slots.mask.capacity() + slots.st.capacity() + slots.uq.capacity() * 4 +
+       (slots.f.capacity() + slots.en.capacity()) * sizeof(double);
   return b;
 }
 
@@ -381,7 +427,10 @@ template std::unique_ptr<ModelBase> make_model<3>(const Settings&);
   template void Model<D>::set_velocity(std::size_t, std::array<double, 3>);                             \
   template void Model<D>::add_to_group(const std::vector<std::uint32_t>&, std::uint32_t);               \
   template std::vector<std::uint32_t> Model<D>::members(std::uint32_t) const;                           \
-  template void Model<D>::sort_particles();                                                             \
+  template void Model<D>::sort_particles(bool);                                                         \
+  template void Model<D>::keep_rows_if_lattice();                                                       \
+  template bool Model<D>::added_in_rows() const;                                                        \
+  template void Model<D>::reorder(const std::vector<std::uint32_t>&);                                   \
   template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>&, \
                                                              Rows) const;                               \
   template std::vector<std::array<double, 3>> Model<D>::displacements(Rows) const;                      \

@@ -6,8 +6,8 @@
 //
 // Model<D>'s members are defined by responsibility, each file with its explicit
 // instantiations for D = 2 and 3:
-//   model.cpp        particle storage, ids and groups, spatial (Morton) order, read access
-//   search.cpp       cell grid, bonding, the Verlet contact list, the thread plan
+//   model.cpp        particle storage, ids and groups, spatial order (Morton, or rows), read access
+//   search.cpp       cell grid, bonding, the Verlet contact list, the thread plan, lattice slots
 //   boundary.cpp     boundary conditions, force histories, driven particles
 //   run.cpp          choice of the pair law, initialise(), the run loop, blow-up checks
 //   critical_dt.cpp  critical time step: rigorous bound and Lanczos estimate
@@ -153,6 +153,7 @@ class ModelBase {
   virtual std::size_t broken_count(int mode) const = 0;
   virtual std::size_t bond_count() const = 0;
   virtual std::size_t contact_count() const = 0;
+  virtual std::int64_t steps_in_lattice_slots() const = 0;
   virtual const std::vector<BreakEvent>& breaks() const = 0;
   virtual std::vector<std::array<std::uint32_t, 2>> touching_pairs() const = 0;
   virtual std::vector<std::array<double, 3>> positions(Rows rows) const = 0;
@@ -195,6 +196,7 @@ class Model final : public ModelBase, public ModelData<D> {
   using Data::bond_owner;
   using Data::bond_us;
   using Data::bonds;
+  using Data::bonds_current;
   using Data::contacts;
   using Data::cross_b;
   using Data::cross_c;
@@ -214,6 +216,9 @@ class Model final : public ModelBase, public ModelData<D> {
   using Data::rest_of;
   using Data::scaled;
   using Data::scratch;
+  using Data::slots;
+  using Data::slots_release;
+  using Data::slots_steps;
   using Data::uniform_diameter;
   using Data::v;
   using Data::wall_energy_and_force;
@@ -228,6 +233,7 @@ class Model final : public ModelBase, public ModelData<D> {
   std::vector<PairStiffness> stiff;              // nmat × nmat stiffnesses of the pair laws
   int nmat = 0;
   bool sorted = false, initialised = false, bcs_dirty = true;
+  bool rows_kept = false;  // kept in the order added row by row until bonded (keep_rows_if_lattice)
   double dt_crit = 0, lam_est = 0, lam_bound = 0;
 
   // ---- run state -------------------------------------------------------------------------
@@ -282,7 +288,10 @@ class Model final : public ModelBase, public ModelData<D> {
   void add_to_group(const std::vector<std::uint32_t>& ids, std::uint32_t group) override;
   std::vector<std::uint32_t> members(std::uint32_t group) const override;
   void bcs_changed() override { bcs_dirty = true; }
-  void sort_particles();
+  void sort_particles(bool rows_allowed = false);
+  bool added_in_rows() const;
+  void keep_rows_if_lattice();
+  void reorder(const std::vector<std::uint32_t>& perm);
   std::vector<std::array<double, 3>> pack(const std::array<std::vector<double>, D>& a, Rows rows) const;
   std::vector<std::array<double, 3>> positions(Rows rows) const override { return pack(x, rows); }
   std::vector<std::array<double, 3>> velocities(Rows rows) const override { return pack(v, rows); }
@@ -399,6 +408,7 @@ class Model final : public ModelBase, public ModelData<D> {
   std::size_t broken_count(int mode) const override;
   std::size_t bond_count() const override { return bonds.size(); }
   std::size_t contact_count() const override;
+  std::int64_t steps_in_lattice_slots() const override { return slots_steps; }
   const std::vector<BreakEvent>& breaks() const override { return events; }
   std::vector<std::array<std::uint32_t, 2>> touching_pairs() const override;
   std::vector<PairView> pairs(PairSet which) const override;

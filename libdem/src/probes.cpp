@@ -11,6 +11,7 @@ namespace strata::dem::detail {
 
 template <int D>
 double Model<D>::dry_bond_energy() const {
+  bonds_current();
   if (!engine) return 0.0;  // no particle yet
   return engine->stored_energy(*this, walls.data(), walls.size(), settings.dt);
 }
@@ -26,6 +27,7 @@ double Model<D>::dry_kinetic() const {
 
 template <int D>
 std::array<double, 3> Model<D>::group_force(std::uint32_t group) const {
+  bonds_current();
   if (!engine) return {0, 0, 0};
   const auto in = sets_holding({group});
   return engine->group_force(*this, walls.data(), walls.size(), settings.dt, in.data());
@@ -90,6 +92,7 @@ std::size_t Model<D>::broken_count(int mode) const {
 
 template <int D>
 std::size_t Model<D>::contact_count() const {
+  bonds_current();
   std::size_t c = 0;
   for (const auto* L : {&bonds, &contacts})
     for (std::size_t k = 0; k < L->size(); ++k)
@@ -100,6 +103,7 @@ std::size_t Model<D>::contact_count() const {
 
 template <int D>
 std::vector<std::array<std::uint32_t, 2>> Model<D>::touching_pairs() const {
+  bonds_current();
   std::vector<std::array<std::uint32_t, 2>> out;
   for (std::size_t p = 0; p < n(); ++p)
     for (const auto* L : {&bonds, &contacts})
@@ -114,6 +118,7 @@ std::vector<std::array<std::uint32_t, 2>> Model<D>::touching_pairs() const {
 
 template <int D>
 std::vector<PairView> Model<D>::pairs(PairSet which) const {
+  bonds_current();
   if (!engine) return {};
   return engine->pairs(*this, which);
 }

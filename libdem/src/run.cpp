@@ -77,6 +77,7 @@ double Model<D>::shear_unit() const {
 
 template <int D>
 void Model<D>::fit_shear_history() {
+  slots_release();
   const bool keep = keeps_shear();
   if (!keep) {
     contacts.us.clear();
@@ -167,6 +168,7 @@ StepCtx Model<D>::step_context() const {
   c.local_alpha = settings.local_alpha;
   c.walls = walls.data();
   c.nwalls = walls.size();
+  c.slots = settings.lattice_slots;
   return c;
 }
 

@@ -7,6 +7,7 @@
 #include <strata/core/log.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numeric>
 
@@ -124,7 +125,7 @@ void Model<D>::bond_touching_pairs(double tol) {
   if (n() == 0) return;
   log::Phases ph("DEM bonds");
   if (!sorted) {
-    sort_particles();
+    sort_particles(true);
     ph.lap("spatial order");
   }
   const double rmax = rad.max();
@@ -174,6 +175,7 @@ void Model<D>::bond_touching_pairs(double tol) {
   bonds = std::move(L);
   bond_us.clear();  // zero histories: initialise() sizes them
   ph.lap("touching pairs");
+  keep_rows_if_lattice();
 }
 
 template <int D>
@@ -343,8 +345,40 @@ std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
   return begin;
 }
 
+LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes) {
+  LatticeSlots s;
+  if (bonds.size() == 0) return s;
+  // the distinct offsets of partners from owners, ascending
+  std::vector<std::uint32_t> offs;
+  for (std::size_t p = 0; p < n; ++p)
+    for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
+      const std::uint32_t o = bonds.j[k] - static_cast<std::uint32_t>(p);
+      if (std::find(offs.begin(), offs.end(), o) != offs.end()) continue;
+      if (offs.size() == LatticeSlots::kMax) return s;  // too many directions
+      offs.push_back(o);
+    }
+  std::sort(offs.begin(), offs.end());
+  const std::size_t ring = std::bit_ceil(std::size_t{offs.back()} + kBlock);
+  if (ring > kMaxSlotRing) return s;  // rows too long for the ring
+  s.mask.assign(n, 0);
+  for (std::size_t p = 0; p < n; ++p)
+    for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
+      const auto d =
+          std::find(offs.begin(), offs.end(), bonds.j[k] - static_cast<std::uint32_t>(p)) - offs.begin();
+      s.mask[p] |= static_cast<std::uint8_t>(1u << d);
+    }
+  s.n = static_cast<int>(offs.size());
+  std::copy(offs.begin(), offs.end(), s.off);
+  s.ring = ring;
+  s.axes = axes;
+  s.f.assign(static_cast<std::size_t>(s.n) * axes * ring, 0.0);
+  s.en.assign(static_cast<std::size_t>(s.n) * ring, 0.0);
+  return s;
+}
+
 template <int D>
 void Model<D>::build_plan(int nt) {
+  slots_release();  // the slots are rebuilt below
   const std::size_t N = n();
   const std::ptrdiff_t nb = static_cast<std::ptrdiff_t>((N + kBlock - 1) / kBlock);
   nt = effective_threads(nt);
@@ -407,6 +441,12 @@ void Model<D>::build_plan(int nt) {
       });
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
+  slots = LatticeSlots{};
+  if (D == 2 && bonds.r0.empty()) {
+    slots = lattice_slots(bonds, N, D);
+    for (int d = 0; d < slots.n; ++d)
+      for (int a = 0; a < D; ++a) std::fill_n(slots.force(d, a), slots.ring, 0.0);
+  }
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
     bond_owner.resize(bonds.size());

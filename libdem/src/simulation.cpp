@@ -240,6 +240,7 @@ std::size_t Simulation::broken_count(BreakMode mode) const {
 std::size_t Simulation::broken_count() const { return m_->broken_count(0); }
 std::size_t Simulation::bond_count() const { return m_->bond_count(); }
 std::size_t Simulation::contact_count() const { return m_->contact_count(); }
+std::int64_t Simulation::steps_in_lattice_slots() const { return m_->steps_in_lattice_slots(); }
 const std::vector<BreakEvent>& Simulation::breaks() const { return m_->breaks(); }
 std::vector<std::array<std::uint32_t, 2>> Simulation::touching_pairs() const { return m_->touching_pairs(); }
 std::vector<std::array<double, 3>> Simulation::positions() const { return m_->positions({}); }

@@ -465,6 +465,7 @@ std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t n) {
 
 template <int D>
 std::uint64_t Model<D>::state_hash() const {
+  bonds_current();
   std::uint64_t h = 1469598103934665603ull;
   for (int a = 0; a < D; ++a) {
     h = fnv(h, x[a].data(), x[a].size() * sizeof(double));
@@ -488,6 +489,7 @@ std::uint64_t Model<D>::state_hash() const {
 
 template <int D>
 StateRefs Model<D>::state_refs() {
+  slots_release();  // a checkpoint reads or replaces the bonds' own arrays
   StateRefs r;
   r.dim = D;
   for (int a = 0; a < D; ++a) {

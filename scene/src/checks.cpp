@@ -195,7 +195,7 @@ class KeyChecks {
         }
     const Table& solver = scene.table("solver");
     for (const std::string key : {"settle", "damping", "viscous_c", "local_damping", "gravity",
-                                  "contact_detection", "min_particles_per_thread"})
+                                  "contact_detection", "min_particles_per_thread", "lattice_slots"})
       if (solver.given(key))
         report(solver.where(key),
                fmt::format(

@@ -492,6 +492,7 @@ dem::Settings dem_settings(const Scene& sc, bool force) {
   set.local_alpha = solver.local_damping;
   set.gravity = vec3(solver.gravity);
   set.min_particles_per_thread = int(solver.min_particles_per_thread);
+  set.lattice_slots = solver.lattice_slots;
   // Contact search only where new contacts can form: between particles whose bonds can
   // break, between regions, or against walls. "on"/"off" override.
   bool breakable = false;

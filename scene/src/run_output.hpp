@@ -368,6 +368,7 @@ class RunOutput {
     if (particles_on_) {
       summary["broken_tension"] = m.sim().broken_count(dem::BreakMode::Tension);
       summary["broken_shear"] = m.sim().broken_count(dem::BreakMode::Shear);
+      summary["steps_in_lattice_slots"] = m.sim().steps_in_lattice_slots();  // this process's
     }
     if (!stress_.empty()) {
       const auto peak = std::max_element(stress_.begin(), stress_.end()) - stress_.begin();

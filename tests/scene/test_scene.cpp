@@ -86,7 +86,7 @@ const std::string kMaterialKeys =
     "youngs_modulus, poisson_ratio";
 const std::string kSolverKeys =
     "dt, dt_safety, steps, duration, settle, damping, viscous_c, local_damping, gravity, contact_detection, "
-    "allow_unstable, threads, min_particles_per_thread, fem_integrator, eta, coupling";
+    "allow_unstable, threads, min_particles_per_thread, lattice_slots, fem_integrator, eta, coupling";
 
 }  // namespace
 

@@ -76,10 +76,11 @@ std::string fingerprint_of(const Tables& tables) {
       mix(t.label());
       for (const KeySpec& k : spec.keys) {
         // Keys that set how far a run goes (steps, duration) or how its work is shared (threads,
-        // min_particles_per_thread, serial or parallel coupling: the same bits by design): a
+        // min_particles_per_thread, lattice slots, serial or parallel coupling: the same bits by design): a
         // checkpoint continues under other values.
-        if (spec.name == "solver" && (k.name == "steps" || k.name == "duration" || k.name == "threads" ||
-                                      k.name == "min_particles_per_thread" || k.name == "coupling"))
+        if (spec.name == "solver" &&
+            (k.name == "steps" || k.name == "duration" || k.name == "threads" ||
+             k.name == "min_particles_per_thread" || k.name == "lattice_slots" || k.name == "coupling"))
           continue;
         mix(k.name);
         if (!t.has(k.name)) {

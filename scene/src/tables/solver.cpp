@@ -86,6 +86,11 @@ TableSpec solver_spec() {
               .doc("A thread is used only for at least this many particles (a parallel step costs a few "
                    "microseconds of synchronisation, more than it saves on small models when other work "
                    "shares the cores). Results do not depend on it."),
+          K("lattice_slots", Bool)
+              .def("true")
+              .doc("A 2D lattice numbered row by row (a hexagonal region) steps its bonds direction by "
+                   "direction on one thread, faster; false takes the general bond pass. Results do not "
+                   "depend on it."),
           K("fem_integrator", Choice)
               .choices({"auto", "central-difference", "explicit-newmark", "implicit-newmark"})
               .def(R"("auto")")
@@ -125,6 +130,7 @@ SolverTable read_solver(const Table& t) {
   read("allow_unstable", s.allow_unstable);
   read("threads", s.threads);
   read("min_particles_per_thread", s.min_particles_per_thread);
+  read("lattice_slots", s.lattice_slots);
   read("fem_integrator", s.fem_integrator);
   read("eta", s.eta);
   read("coupling", s.coupling, kCoupling);

@@ -66,6 +66,10 @@ struct Settings {
   /// Threads are used only with at least this many particles each (smaller models run on
   /// fewer threads; results do not depend on it). Tests lower it to exercise threading.
   int min_particles_per_thread = 4096;
+  /// A model whose bonds sit in lattice slots (a lattice numbered row by row) steps its bonds
+  /// direction by direction on one thread; false takes the general bond pass. Results do
+  /// not depend on it (tests compare the two).
+  bool lattice_slots = true;
 };
 
 /// A bond or contact as seen by writers.
@@ -248,6 +252,9 @@ class Simulation {
   std::size_t bond_count() const;
   /// Broken bonds and contacts currently touching.
   std::size_t contact_count() const;
+  /// Steps taken with the bonds in lattice slots (Settings::lattice_slots: a 2D lattice
+  /// numbered row by row, stepped on one thread while it has no contacts).
+  std::int64_t steps_in_lattice_slots() const;
   /// All bond breaks so far, ordered by (step, particle ids).
   const std::vector<BreakEvent>& breaks() const;
   /// Pairs (id_i < id_j) whose disks/spheres overlap now, found through the contact lists

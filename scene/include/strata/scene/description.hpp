@@ -253,6 +253,7 @@ struct SolverTable {
   Located<std::vector<double>> gravity;  ///< m/s^2
   Located<ContactDetection> contact_detection;
   Located<bool> allow_unstable;
+  Located<bool> lattice_slots;
   Located<std::int64_t> threads;  ///< 0: all cores
   Located<std::int64_t> min_particles_per_thread;
   Located<std::string> fem_integrator;  ///< "auto" or a libfem scheme name

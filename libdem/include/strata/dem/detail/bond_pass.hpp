@@ -10,6 +10,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
 namespace strata::dem::detail {
 
@@ -77,6 +78,16 @@ struct BondSpan {
   const std::uint32_t* j;
   std::uint8_t *st, *slow;
   std::uint32_t p0, e;
+  /// Bonds in lattice slots (bond_span with kInSlots): the span's entry q is owner pa + q's
+  /// bond in direction dir, to partner pa + q + so, where bit dir of smask[q] says the owner
+  /// has it; its index is soff[q] plus the owner's bonds in lower directions (dithering). The
+  /// arrays indexed by q (st, uq, slow, the forces and energies) hold the span's entries, not
+  /// the bonds'; an entry without a bond is computed and left as it was (slow 0).
+  std::uint32_t pa = 0, so = 0;
+  int dir = 0;
+  const std::uint32_t* soff = nullptr;
+  const std::uint8_t* smask = nullptr;
+  bool* slow_seen = nullptr;  // set where an entry is left to the reference kernel
 };
 
 /// Bonds qa..qb-1 of a block: the geometry of each bond, then the law's batch form
@@ -93,15 +104,18 @@ struct BondSpan {
 /// or stored.
 /// Everything it calls is inlined (flatten): GCC 12 left the law's batch form of the full
 /// law (kBroken) as a call per bond, which kept the loop over the bonds from vectorising.
-template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear, bool kOpen = false>
+template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear, bool kOpen = false,
+          bool kInSlots = false>
 [[gnu::flatten]] void bond_span(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t qa,
                                 std::size_t qb) {
   using namespace pair_state;
   constexpr int kNs = kNsOf<D>;
-  const double* __restrict X0 = sp.X0, * __restrict X1 = sp.X1, * __restrict X2 = sp.X2;
-  const double* __restrict V0 = sp.V0, * __restrict V1 = sp.V1, * __restrict V2 = sp.V2;
+  // in slots, the particle arrays from the span's first owner on: entry q's owner is q
+  const std::size_t at = kInSlots ? sp.pa : 0;
+  const double* __restrict X0 = sp.X0 + at, * __restrict X1 = sp.X1 + at, * __restrict X2 = sp.X2 + at;
+  const double* __restrict V0 = sp.V0 + at, * __restrict V1 = sp.V1 + at, * __restrict V2 = sp.V2 + at;
   double* __restrict F0 = sp.F0, * __restrict F1 = sp.F1, * __restrict F2 = sp.F2;
-  const double* __restrict R = sp.R;
+  const double* __restrict R = sp.R ? sp.R + at : nullptr;
   const double* __restrict br0 = sp.r0;
   const double* __restrict bkf = sp.kf;
   const double* __restrict bsf = sp.sf;
@@ -122,16 +136,27 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
   // the entry of a wide bond's history in bwide, or -1 (with kBroken only: a chunk without
   // a broken or wide bond holds every history in 32 bits)
-  alignas(64) std::int64_t WI[kChunk], WF[kChunk];     // WF: 1 for a wide bond (WI >= 0)
-  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];  // kBroken: the law's new state and verdict
+  alignas(64) std::int64_t WI[kChunk], WF[kChunk];      // WF: 1 for a wide bond (WI >= 0)
+  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];   // kBroken: the law's new state and verdict
+  alignas(64) std::int64_t HAS[kInSlots ? kChunk : 1];  // kInSlots: 1 where the owner has the bond
   // 1 where a fast bond's new Us goes to its 32-bit steps: in 32-bit lanes like the steps
   // and applied by masks (with a 64-bit flag or a select GCC 12 left the 3D store scalar)
   alignas(64) std::int32_t PUT32[kShear ? kChunk : 1];
   alignas(64) std::int32_t QN[kNs][kChunk];  // a new Us in 32-bit steps (BondShear::steps_of)
   alignas(64) double NU[kNs][kChunk];        // new shear displacements (stored for fast bonds only)
+  auto ends = [&](std::size_t i, std::size_t q) {
+    if constexpr (kInSlots)
+      return std::pair<std::size_t, std::size_t>{q, q + sp.so};
+    else
+      return std::pair<std::int64_t, std::int64_t>{P[i], J[i]};
+  };
   for (std::size_t i = 0; i < len_q; ++i) {
-    P[i] = up0 + own[qa + i];
-    J[i] = bj[qa + i];
+    if constexpr (kInSlots) {
+      HAS[i] = sp.smask[qa + i] >> sp.dir & 1;
+    } else {
+      P[i] = up0 + own[qa + i];
+      J[i] = bj[qa + i];
+    }
     if constexpr (kBroken || kOpen) ST[i] = bst[qa + i];
     if constexpr (kBroken && kShear) {
       const std::int32_t h = buq[(qa + i) * kNs];
@@ -149,7 +174,9 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   };
   auto geometry = [&](std::size_t i) {
     const std::size_t q = qa + i;
-    const std::int64_t p = P[i], j = J[i];
+    // in slots the owners and partners of consecutive entries are consecutive particles
+    // (unsigned indices from the shifted arrays: the compiler then loads whole vectors)
+    const auto [p, j] = ends(i, q);
     double n0 = X0[j] - X0[p], n1 = X1[j] - X1[p], n2 = 0;
     double len2 = n0 * n0 + n1 * n1;
     if constexpr (D == 3) {
@@ -228,12 +255,23 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
         in32 &= !open;
         held = in32 | open;
       }
-      const std::uint32_t bits = BondShear<kNs>::dither_bits(k0 + static_cast<std::uint32_t>(qa + i), salt);
+      std::uint32_t bond = k0 + static_cast<std::uint32_t>(qa + i);
+      if constexpr (kInSlots) {  // the owner's first bond, plus its bonds in lower directions
+        const std::uint32_t lower = sp.smask[qa + i] & ((1u << sp.dir) - 1u);
+        bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
+      }
+      const std::uint32_t bits = BondShear<kNs>::dither_bits(bond, salt);
       for (int a = 0; a < kNs; ++a)
         QN[a][i] = BondShear<kNs>::steps_of(in32 != 0 ? NU[a][i] * inv : 0.0, bits, a);
     }
-    const std::int64_t fast = (J[i] < ee64) & done & held;
-    SLOW[i] = !fast;
+    // (in slots every partner is in range: one thread)
+    std::int64_t fast = (kInSlots || J[i] < ee64) & done & held;
+    if constexpr (kInSlots) {  // an entry without a bond is neither fast nor slow: nothing is kept
+      fast &= HAS[i];
+      SLOW[i] = (fast == 0) & HAS[i];
+    } else {
+      SLOW[i] = !fast;
+    }
     if constexpr (kShear) PUT32[i] = static_cast<std::int32_t>(fast & in32);
     if constexpr (kBroken) ST[i] = ST[i] + fast * (ost - ST[i]);
   };
@@ -300,10 +338,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
 #pragma omp simd
     for (std::size_t i = 0; i < len_q; ++i) apply_law(i, geometry(i));
   }
+  std::int64_t seen = 0;
   for (std::size_t i = 0; i < len_q; ++i) {
     slow[qa + i] = static_cast<std::uint8_t>(SLOW[i]);
     if constexpr (kBroken) bst[qa + i] = static_cast<std::uint8_t>(ST[i]);
+    if constexpr (kInSlots) seen |= SLOW[i];
   }
+  if constexpr (kInSlots)
+    if (seen) *sp.slow_seen = true;
   if constexpr (kShear) {
     // fast bonds held in 32 bits: their new steps (by masks, not a branch or a select, so
     // that the loop vectorises in 2D and 3D); fast wide ones (broken, mostly): their entries
@@ -317,14 +359,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     }
     if constexpr (kBroken)
       for (std::size_t i = 0; i < len_q; ++i)  // left scalar by GCC in 3D (and 2D without AVX-512)
-        if (!SLOW[i] && !PUT32[i])             // fast and not held in 32 bits: wide
+        if (!SLOW[i] && !PUT32[i] && (!kInSlots || HAS[i]))  // fast and not held in 32 bits: wide
           for (int a = 0; a < kNs; ++a) bwide[WI[i] * kNs + a] = NU[a][i];
   }
 }
 
 /// The bond pass of one block's mq bonds, chunk by chunk: chunks with no broken bond (nearly
 /// all of an unbroken lattice) skip the broken-bond law; the others take the full one.
-template <int D, class Law, bool kEnergy, Rest kRest>
+template <int D, class Law, bool kEnergy, Rest kRest, bool kInSlots = false>
 void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t mq) {
   constexpr int kNs = kNsOf<D>;
   const std::uint8_t* stq = sp.st;
@@ -352,15 +394,15 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
     const bool open = kMayOpen && sp.keep_us && broken && !shut && !wide;
     if (!sp.keep_us) {  // no shear history: nothing of BondShear is read or written
       if (broken)
-        bond_span<D, Law, kEnergy, kRest, true, false>(sp, L, dt, d_uniform, qa, qb);
+        bond_span<D, Law, kEnergy, kRest, true, false, false, kInSlots>(sp, L, dt, d_uniform, qa, qb);
       else
-        bond_span<D, Law, kEnergy, kRest, false, false>(sp, L, dt, d_uniform, qa, qb);
+        bond_span<D, Law, kEnergy, kRest, false, false, false, kInSlots>(sp, L, dt, d_uniform, qa, qb);
     } else if (open) {
-      bond_span<D, Law, kEnergy, kRest, false, true, true>(sp, L, dt, d_uniform, qa, qb);
+      bond_span<D, Law, kEnergy, kRest, false, true, true, kInSlots>(sp, L, dt, d_uniform, qa, qb);
     } else if (broken) {
-      bond_span<D, Law, kEnergy, kRest, true, true>(sp, L, dt, d_uniform, qa, qb);
+      bond_span<D, Law, kEnergy, kRest, true, true, false, kInSlots>(sp, L, dt, d_uniform, qa, qb);
     } else {
-      bond_span<D, Law, kEnergy, kRest, false, true>(sp, L, dt, d_uniform, qa, qb);
+      bond_span<D, Law, kEnergy, kRest, false, true, false, kInSlots>(sp, L, dt, d_uniform, qa, qb);
     }
   }
 }

@@ -397,6 +397,10 @@ struct Scratch {
   static_assert(kBlock <= 256, "own holds owner offsets in one byte");
   /// Zero shear histories the bond pass reads where the model keeps none (never written).
   std::vector<std::int32_t> no_us;
+  /// The bond pass in lattice slots: the verdicts of one direction's entries of a block, and
+  /// the bonds left to the reference kernel (bond index, owner, direction).
+  std::vector<std::uint8_t> sslow;
+  std::vector<std::array<std::uint32_t, 3>> sref;
   void fit(std::size_t m) {
     if (own.size() < m + 8) own.resize(m + 8);  // the owners' eight-byte writes reach 7 past the last bond
     if (en.size() >= m) return;
@@ -405,6 +409,59 @@ struct Scratch {
     slow.resize(m);
   }
 };
+
+/// The most ring entries the slots' forces take (the longest rows they serve: 7936).
+inline constexpr std::size_t kMaxSlotRing = 8192;
+
+/// Bonds in lattice slots: a model whose particles are numbered so that every bond's
+/// partner lies at one of a few fixed offsets from its owner (a hexagonal lattice numbered
+/// row by row: owner + 1, owner + L - 1, owner + L for rows of L and L - 1 disks). Its bond
+/// pass can then run direction by direction: eight consecutive owners have eight consecutive
+/// partners, whose positions and velocities load as whole vectors instead of element by
+/// element; and each particle pulls its bonds' forces from per-direction arrays, in the
+/// order the step loop otherwise pushes them (ascending owner, then its own bonds by
+/// ascending partner), so the two forms give the same bits. Set by Model::build_plan; the
+/// step kernel takes this form on one thread for a model of one material, bonds without
+/// per-bond rest lengths and no contacts at the time (docs/dem.md, "Bonds in lattice slots").
+struct LatticeSlots {
+  /// Directions: three for a hexagonal lattice of rows of L and L - 1 disks (partners p + 1,
+  /// p + L - 1, p + L), four for one of rows of L disks each (an owner in an even row bonds
+  /// to p + 1, p + L - 1 and p + L, one in an odd row to p + 1, p + L and p + L + 1).
+  static constexpr int kMax = 4;
+  int n = 0;                  // directions; 0: the model is not held in slots
+  std::uint32_t off[kMax]{};  // each direction's partner offset, ascending
+  /// Per particle, bit d: it owns a bond in direction d (its partner is p + off[d]). That
+  /// bond's index is bonds.off[p] + the number of p's bonds in earlier directions.
+  std::vector<std::uint8_t> mask;
+  /// Forces (D per direction) and energies of the bonds a block's owners hold, per
+  /// direction, in a ring over the particles: ring entries, a power of two, at least
+  /// off[n - 1] + kBlock, so an owner's entry lives until its partners have pulled it.
+  std::size_t ring = 0;
+  std::vector<double> f, en;  // f: [direction][axis][ring entry], en: [direction][ring entry]
+  /// The bonds' state and shear history (BondShear's 32-bit steps or wide code, ns each)
+  /// by direction and owner, [d][p]: where a model steps in slots these are its bonds'
+  /// state, and the bonds' own arrays (PairList::st, BondShear::q) are brought up to date
+  /// when something else reads them (ModelData::bonds_current). An owner without the bond
+  /// holds kIntact and zeros, which the bond pass never changes.
+  std::vector<std::uint8_t> st;
+  std::vector<std::int32_t> uq;
+  bool held = false;   // st and uq hold the bonds' state
+  bool ahead = false;  // ... and the bonds' own arrays are behind it
+  /// The bonds the reference kernel took in this step, (bond, owner, direction): their
+  /// shear history may get a wide entry when the step ends (BondShear::merge).
+  std::vector<std::array<std::uint32_t, 3>> touched;
+  /// The bond of owner p in direction d (bit d of mask[p] set), given p's first bond.
+  std::uint32_t bond(std::uint32_t first, std::uint8_t m, int d) const {
+    return first + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(m & ((1u << d) - 1))));
+  }
+  int axes = 0;  // D
+  double* force(int d, int a) { return f.data() + (static_cast<std::size_t>(d) * axes + a) * ring; }
+  double* energy(int d) { return en.data() + static_cast<std::size_t>(d) * ring; }
+};
+
+/// The slots of `bonds` over n particles of dimension axes (LatticeSlots::n = 0 where they do
+/// not fit: more than LatticeSlots::kMax offsets, or one beyond the ring).
+LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes);
 
 /// What one step needs besides the arrays.
 struct StepCtx {
@@ -418,6 +475,7 @@ struct StepCtx {
   double viscous_c, local_alpha;
   const Wall* walls;
   std::size_t nwalls;
+  bool slots;  // Settings::lattice_slots
 };
 
 /// The model's arrays: particles (structure of arrays, internal order), pairs, boundary
@@ -435,6 +493,8 @@ struct ModelData {
   BondShear<kNs> bond_us;       // the bonds' shear histories (empty when the model keeps none)
   std::vector<BcParticle> bcp;  // sorted by index
   std::vector<BlockAcc> acc;
+  LatticeSlots slots;
+  std::int64_t slots_steps = 0;  // steps taken in slots
 
   // ---- thread plan and step scratch ----------------------------------------------------
   Plan plan;
@@ -508,6 +568,54 @@ struct ModelData {
   }
 
   std::size_t n() const { return x[0].size(); }
+
+  /// Calls f(k, p, d) for every bond k held in slots: owner p, direction d.
+  template <typename Fn>
+  void for_each_slot(Fn&& f) const {
+    const std::size_t N = n();
+    for (std::size_t p = 0; p < N; ++p) {
+      std::uint32_t k = bonds.off[p];
+      for (int d = 0; d < slots.n; ++d)
+        if (slots.mask[p] >> d & 1u) f(k++, p, d);
+    }
+  }
+  /// Bond k (owner p, direction d) from the bonds' arrays into its slot, or back.
+  void slot_take(std::uint32_t k, std::size_t p, int d) {
+    const std::size_t s = static_cast<std::size_t>(d) * n() + p;
+    slots.st[s] = bonds.st[k];
+    if (!bond_us.empty())
+      for (int a = 0; a < kNs; ++a) slots.uq[s * kNs + a] = bond_us.q[std::size_t{k} * kNs + a];
+  }
+  void slot_give(std::uint32_t k, std::size_t p, int d) {
+    const std::size_t s = static_cast<std::size_t>(d) * n() + p;
+    bonds.st[k] = slots.st[s];
+    if (!bond_us.empty())
+      for (int a = 0; a < kNs; ++a) bond_us.q[std::size_t{k} * kNs + a] = slots.uq[s * kNs + a];
+  }
+  /// The bonds' state into the slots, which hold it from now on.
+  void slots_take_state() {
+    const std::size_t ns = static_cast<std::size_t>(slots.n) * n();
+    slots.st.assign(ns, pair_state::kIntact);
+    slots.uq.assign(bond_us.empty() ? 0 : ns * kNs, 0);
+    for_each_slot([&](std::uint32_t k, std::size_t p, int d) { slot_take(k, p, d); });
+    slots.held = true;
+    slots.ahead = false;
+  }
+  /// The bonds' arrays brought up to date with the slots, where a step in slots has left
+  /// them behind. Called by whatever reads them between steps: the state is the same, only
+  /// where it is held changes, hence const.
+  void bonds_current() const {
+    if (!slots.ahead) return;
+    auto& self = const_cast<ModelData&>(*this);
+    self.for_each_slot([&](std::uint32_t k, std::size_t p, int d) { self.slot_give(k, p, d); });
+    self.slots.ahead = false;
+  }
+  /// The bonds' arrays up to date and the slots' copy let go (before the arrays change, or a
+  /// step that does not use slots).
+  void slots_release() {
+    bonds_current();
+    slots.held = false;
+  }
 
   double dist2(std::size_t p, std::size_t q) const {
     double s = 0;

@@ -38,6 +38,8 @@ class Engine final : public LawEngine<D> {
  public:
   static constexpr int kNs = kNsOf<D>;
   using Damping = Settings::Damping;
+  /// The lattice-slot form is compiled for 2D laws with a batch form (LatticeSlots).
+  static constexpr bool kSlotsBuilt = D == 2 && HasLane<Law, kNs>;
 
   const char* name() const override { return Law::kName; }
 
@@ -51,11 +53,30 @@ class Engine final : public LawEngine<D> {
   }
 
   void step(ModelData<D>& m, const StepCtx& c, bool energy) override {
+    const bool in_slots = slots_apply(m, c);
+    if (in_slots) {
+      if (!m.slots.held) m.slots_take_state();
+      m.slots.touched.clear();
+    } else if (m.slots.held) {
+      m.slots_release();
+    }
     if (energy)
-      dispatch<true>(m, c);
+      dispatch<true>(m, c, in_slots);
     else
-      dispatch<false>(m, c);
+      dispatch<false>(m, c, in_slots);
     if (!m.bond_us.empty()) m.bond_us.merge();  // bonds that became wide get their entries
+    if (in_slots) {
+      for (const auto& [k, p, d] : m.slots.touched) m.slot_take(k, p, static_cast<int>(d));
+      m.slots.ahead = true;
+      ++m.slots_steps;
+    }
+  }
+
+  /// Whether this step runs in lattice slots: a 2D law with a batch form, one material, the
+  /// model held in slots, one thread and no contacts now (their forces would come between
+  /// the bonds' in each particle's sum).
+  bool slots_apply(const ModelData<D>& m, const StepCtx& c) const {
+    return kSlotsBuilt && c.slots && m.slots.n > 0 && m.plan.nt == 1 && m.contacts.size() == 0 && nmat == 1;
   }
 
   double shear_reach() const override {
@@ -438,10 +459,271 @@ class Engine final : public LawEngine<D> {
     }
   }
 
-  // Phase B: gather + update of this thread's particles, computing its internal pairs on
-  // the way (a pair (p, j) with j in range is computed when p is reached; j > p has not
-  // moved yet, and p's own force is complete once its own pairs are done).
-  template <Damping DK, bool kEnergy>
+  // The bond pass of one block in lattice slots (LatticeSlots; one thread, so every partner
+  // is in range): direction by direction, the block's owners' entries of the slots go
+  // through bond_chunks with kInSlots; forces and energies land in the slots' ring. The bonds
+  // the batch form leaves are then redone by the reference kernel in bond order, as
+  // bond_block does, on the bonds' own arrays (brought up to date for those bonds, and the
+  // result taken back).
+  template <bool kEnergy, Rest kRest>
+  void bond_block_slots(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0,
+                        std::ptrdiff_t pe) const {
+    LatticeSlots& L = m.slots;
+    Scratch<D>& S = m.scratch[t];
+    const std::size_t nb = static_cast<std::size_t>(pe - p0);
+    if (S.sslow.size() < nb) S.sslow.resize(nb);
+    if (S.no_us.size() < nb * kNs) S.no_us.assign(nb * kNs, 0);
+    S.sref.clear();
+    const bool keep_us = !m.bond_us.empty();
+    std::uint8_t* __restrict sslow = S.sslow.data();
+    static double no_wide[kNs] = {};
+    const std::size_t rmask = L.ring - 1, r0 = static_cast<std::size_t>(p0) & rmask;
+    const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(m.n());
+    for (int d = 0; d < L.n; ++d) {
+      const std::ptrdiff_t pb = std::min<std::ptrdiff_t>(pe, n - L.off[d]);  // owners whose partner exists
+      if (pb <= p0) continue;
+      const std::size_t len = static_cast<std::size_t>(pb - p0);
+      const std::size_t s0 = static_cast<std::size_t>(d) * m.n() + static_cast<std::size_t>(p0);
+      BondSpan sp{m.x[0].data(),
+                  m.x[1].data(),
+                  m.x[D - 1].data(),
+                  m.v[0].data(),
+                  m.v[1].data(),
+                  m.v[D - 1].data(),
+                  m.rad.per_particle(),
+                  nullptr,
+                  nullptr,
+                  nullptr,
+                  L.force(d, 0) + r0,
+                  L.force(d, 1) + r0,
+                  L.force(d, D - 1) + r0,
+                  L.energy(d) + r0,
+                  keep_us ? L.uq.data() + s0 * kNs : S.no_us.data(),
+                  m.bond_us.wide.empty() ? no_wide : m.bond_us.wide.data(),
+                  keep_us ? m.bond_us.unit : 0.0,
+                  keep_us ? m.bond_us.inv : 0.0,
+                  keep_us,
+                  m.bond_us.intact_wide,
+                  0,
+                  c.salt,
+                  nullptr,
+                  nullptr,
+                  L.st.data() + s0,
+                  sslow,
+                  static_cast<std::uint32_t>(p0),
+                  static_cast<std::uint32_t>(n)};
+      sp.pa = static_cast<std::uint32_t>(p0);
+      sp.so = L.off[d];
+      sp.dir = d;
+      sp.soff = m.bonds.off.data() + p0;
+      sp.smask = L.mask.data() + p0;
+      bool any_slow = false;
+      sp.slow_seen = &any_slow;
+      bond_chunks<D, Law, kEnergy, kRest, true>(sp, laws[0], c.dt, m.uniform_diameter, len);
+      if (any_slow) [[unlikely]] {
+        const std::uint8_t* mk = L.mask.data();
+        const unsigned lower = (1u << d) - 1u;
+        for (std::size_t q = 0; q < len; ++q)
+          if (sslow[q]) {
+            const auto p = static_cast<std::size_t>(p0) + q;
+            const auto k = m.bonds.off[p] + static_cast<std::uint32_t>(std::popcount(mk[p] & lower));
+            S.sref.push_back({k, static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(d)});
+          }
+      }
+    }
+    if (S.sref.empty()) [[likely]]
+      return;
+    std::sort(S.sref.begin(), S.sref.end());  // bond order
+    const double* X[D];
+    const double* V[D];
+    for (int a = 0; a < D; ++a) {
+      X[a] = m.x[a].data();
+      V[a] = m.v[a].data();
+    }
+    for (const auto& [k, p, d] : S.sref) {
+      double F[D];
+      int broke = 0;
+      m.slot_give(k, p, static_cast<int>(d));
+      const double e = bond_force<kEnergy>(m, t, c, X, V, p, k, F, broke);
+      m.slot_take(k, p, static_cast<int>(d));
+      L.touched.push_back({k, p, d});
+      const std::size_t r = p & rmask;
+      for (int a = 0; a < D; ++a) L.force(static_cast<int>(d), a)[r] = F[a];
+      L.energy(static_cast<int>(d))[r] = e;
+      if (broke) [[unlikely]]
+        record(m, t, c.step, p, m.bonds.j[k], broke);
+    }
+  }
+
+  /// One particle with a boundary condition through the update: its free axes by the damped
+  /// leapfrog, its driven ones by their mode, with the work of the applied load and of the
+  /// reactions booked; v2 and vv gain its new speed squared and vo·vn.
+  template <Damping DK>
+  [[gnu::always_inline]] static inline void bc_update(BcParticle& bc, const StepCtx& c, const double* F,
+                                                      double imass, std::ptrdiff_t p,
+                                                      double* __restrict const* X,
+                                                      double* __restrict const* V, double& work,
+                                                      double& work_ex, double& diss, double& vfree2,
+                                                      double& v2, double& vv) {
+    const double dt = c.dt, cv = c.viscous_c, alpha = c.local_alpha;
+    double fapp[3] = {0, 0, 0};
+    if (bc.history >= 0)  // load_dir: 1 for a force vector, the unit direction of a radial load
+      for (int a = 0; a < D; ++a) fapp[a] = c.hist[bc.history][a] * bc.load_dir[a];
+    bc.w_ahead = 0;
+    bc.w_ahead_ex = 0;
+    double v2f = 0;  // over the free axes
+    double vv_driven = 0;
+    for (int a = 0; a < D; ++a) {
+      bc.f_int[a] = F[a];
+      const double vo = V[a][p];
+      double vn;
+      if (bc.mode[a] == 0) {
+        vn = integrate<DK>(vo, F[a] + fapp[a], imass, c.g[a], dt, cv, alpha, diss);
+        work += fapp[a] * vn * dt;
+        v2f += vn * vn;
+      } else {
+        if (bc.mode[a] == 1)
+          vn = 0;
+        else if (bc.mode[a] == 2)
+          vn = bc.value[a];
+        else
+          vn = (c.step + 1) % bc.every[a] == 0 ? bc.value[a] / dt : 0.0;
+        // reaction work, trapezoid rule: -½·F(n)·(Δx(n-½) + Δx(n+½))
+        const double dx = vn * dt;
+        const double fr = F[a] + fapp[a] + c.g[a] / imass;
+        work -= 0.5 * fr * (bc.dx_prev[a] + dx);
+        bc.w_ahead -= 0.5 * fr * dx;
+        if (bc.exchange >> a & 1u) {  // booked apart: energy passed between partitions
+          work_ex -= 0.5 * fr * (bc.dx_prev[a] + dx);
+          bc.w_ahead_ex -= 0.5 * fr * dx;
+        }
+        bc.dx_prev[a] = dx;
+        vv_driven += vo * vn;
+      }
+      V[a][p] = vn;
+      X[a][p] += vn * dt;
+      v2 += vn * vn;
+      vv += vo * vn;
+    }
+    vfree2 = std::max(vfree2, v2f);
+    bc.ke_driven = 0.5 * vv_driven / imass;
+  }
+
+  /// The bond forces of particles p0..pe-1 from the slots' ring into F[a][p - p0], in vector
+  /// lanes: direction by direction, minus the bonds they are the partner of (descending
+  /// direction: ascending owner), then plus their own (ascending partner), each where the
+  /// bond exists. Every particle's sum takes the terms in pull_slots' order.
+  static void pull_block(LatticeSlots& L, std::ptrdiff_t p0, std::ptrdiff_t pe, double (*F)[kBlock]) {
+    const std::size_t nb = static_cast<std::size_t>(pe - p0), rmask = L.ring - 1;
+    const std::uint8_t* __restrict mk = L.mask.data();
+    for (int a = 0; a < D; ++a) std::fill_n(F[a], nb, 0.0);
+    // entries q in [qa, qb) whose ring entries are R + q (no wrap), mask bytes M + q
+    auto apply = [&](int d, std::size_t qa, std::size_t qb, std::ptrdiff_t shift, bool own) {
+      const std::uint8_t* __restrict M = mk + p0 - shift;
+      for (int a = 0; a < D; ++a) {
+        const std::size_t r = static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)) & rmask;
+        const double* __restrict R = L.force(d, a) + r - qa;
+        double* __restrict Fa = F[a];
+        const unsigned sh = static_cast<unsigned>(d);
+        if (own) {
+#pragma omp simd
+          for (std::size_t q = qa; q < qb; ++q) Fa[q] = (M[q] >> sh & 1u) ? Fa[q] + R[q] : Fa[q];
+        } else {
+#pragma omp simd
+          for (std::size_t q = qa; q < qb; ++q) Fa[q] = (M[q] >> sh & 1u) ? Fa[q] - R[q] : Fa[q];
+        }
+      }
+    };
+    auto pass = [&](int d, std::ptrdiff_t shift, bool own) {
+      // owners p - shift >= 0; their ring entries wrap at most once over a block
+      std::size_t qa = static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, shift - p0));
+      while (qa < nb) {
+        const std::size_t r = static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)) & rmask;
+        const std::size_t qb = std::min(nb, qa + (L.ring - r));
+        apply(d, qa, qb, shift, own);
+        qa = qb;
+      }
+    };
+    for (int d = L.n - 1; d >= 0; --d) pass(d, static_cast<std::ptrdiff_t>(L.off[d]), false);
+    for (int d = 0; d < L.n; ++d) pass(d, 0, true);
+  }
+
+  /// The damped update of particles p0..pe-1 without a boundary condition (flags 0), in
+  /// vector lanes, from forces F[a][p - p0]; V2 and DP receive each one's new speed squared
+  /// and damping loss (for the block's sums, which take them in particle order). Particles
+  /// with a boundary condition are left as they are.
+  template <Damping DK>
+  static void update_free_block(ModelData<D>& m, const StepCtx& c, std::ptrdiff_t p0, std::ptrdiff_t pe,
+                                const double (*F)[kBlock], double* __restrict V2, double* __restrict DP) {
+    const std::size_t nb = static_cast<std::size_t>(pe - p0);
+    const std::uint8_t* __restrict FL = m.flags.data() + p0;
+    const double* __restrict IMb = m.im.block(static_cast<std::size_t>(p0));
+    double* __restrict X0 = m.x[0].data() + p0;
+    double* __restrict X1 = m.x[1].data() + p0;
+    double* __restrict X2 = m.x[D - 1].data() + p0;
+    double* __restrict V0 = m.v[0].data() + p0;
+    double* __restrict V1 = m.v[1].data() + p0;
+    double* __restrict W2 = m.v[D - 1].data() + p0;
+    const double* __restrict F0 = F[0];
+    const double* __restrict F1 = F[1];
+    const double* __restrict F2 = F[D - 1];
+    const double dt = c.dt, cv = c.viscous_c, alpha = c.local_alpha, g0 = c.g[0], g1 = c.g[1],
+                 g2 = c.g[D - 1];
+#pragma omp simd
+    for (std::size_t q = 0; q < nb; ++q) {
+      const double imass = IMb[q];
+      const bool free = FL[q] == 0;
+      double dp = 0, v2 = 0;
+      const double vo0 = V0[q], vo1 = V1[q];
+      const double vn0 = integrate<DK>(vo0, F0[q], imass, g0, dt, cv, alpha, dp);
+      const double vn1 = integrate<DK>(vo1, F1[q], imass, g1, dt, cv, alpha, dp);
+      V0[q] = free ? vn0 : vo0;
+      X0[q] = free ? X0[q] + vn0 * dt : X0[q];
+      v2 += vn0 * vn0;
+      V1[q] = free ? vn1 : vo1;
+      X1[q] = free ? X1[q] + vn1 * dt : X1[q];
+      v2 += vn1 * vn1;
+      if constexpr (D == 3) {
+        const double vo2 = W2[q];
+        const double vn2 = integrate<DK>(vo2, F2[q], imass, g2, dt, cv, alpha, dp);
+        W2[q] = free ? vn2 : vo2;
+        X2[q] = free ? X2[q] + vn2 * dt : X2[q];
+        v2 += vn2 * vn2;
+      }
+      V2[q] = v2;
+      DP[q] = dp;
+    }
+  }
+
+  /// Particle p's bond forces from the slots' ring: minus those of the bonds it is the
+  /// partner of, by ascending owner (descending direction), then plus its own, by ascending
+  /// partner; eb gains its own bonds' energies in the same order (kEnergy).
+  template <bool kEnergy>
+  static inline void pull_slots(LatticeSlots& L, std::ptrdiff_t p, double* F, double& eb) {
+    const std::uint8_t* mk = L.mask.data();
+    const std::size_t rmask = L.ring - 1;
+    for (int a = 0; a < D; ++a) F[a] = 0.0;
+    for (int d = L.n - 1; d >= 0; --d) {
+      const std::ptrdiff_t o = p - static_cast<std::ptrdiff_t>(L.off[d]);
+      if (o >= 0 && (mk[o] >> d & 1u)) {
+        const std::size_t r = static_cast<std::size_t>(o) & rmask;
+        for (int a = 0; a < D; ++a) F[a] -= L.force(d, a)[r];
+      }
+    }
+    const std::uint8_t mp = mk[p];
+    const std::size_t r = static_cast<std::size_t>(p) & rmask;
+    for (int d = 0; d < L.n; ++d)
+      if (mp >> d & 1u) {
+        for (int a = 0; a < D; ++a) F[a] += L.force(d, a)[r];
+        if constexpr (kEnergy) eb += L.energy(d)[r];
+      }
+  }
+
+  // With kSlots (one thread, no contacts, the model in lattice slots) the bond pass runs by
+  // direction (bond_block_slots) and each particle pulls its bonds' forces from the slots'
+  // ring in the order the other form pushes them: the bonds of its owners by ascending owner,
+  // then its own by ascending partner.
+  template <Damping DK, bool kEnergy, bool kSlots = false>
   void phase_b(ModelData<D>& m, int t, const StepCtx& c) const {
     const std::ptrdiff_t b = m.plan.begin[t], e = m.plan.begin[t + 1];
     if (b >= e) return;
@@ -502,7 +784,12 @@ class Engine final : public LawEngine<D> {
         next_wait_blk = next_wait < m.plan.waits[t].size() ? m.plan.waits[t][next_wait].blk : -1;
       }
       double work = 0, work_ex = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0, vfree2 = 0;
-      if (!m.bonds.r0.empty())
+      if constexpr (kSlots) {
+        if (m.uniform_diameter > 0)
+          bond_block_slots<kEnergy, kUniform>(m, t, c, blk * kBlock, pe);
+        else
+          bond_block_slots<kEnergy, kRadiusSum>(m, t, c, blk * kBlock, pe);
+      } else if (!m.bonds.r0.empty())
         bond_block<kEnergy, kPerBond>(m, t, c, blk * kBlock, pe, e);
       else if (m.uniform_diameter > 0)
         bond_block<kEnergy, kUniform>(m, t, c, blk * kBlock, pe, e);
@@ -511,23 +798,57 @@ class Engine final : public LawEngine<D> {
       // the block's bond forces and energies (pointers hoisted: the stores of pending forces below
       // would otherwise make the compiler reload them for every bond)
       const std::uint32_t kb0 = boff[blk * kBlock];
-      const double* __restrict SF[D];
-      for (int a = 0; a < D; ++a) SF[a] = m.scratch[t].fb[a].data() - kb0;
-      const double* __restrict SE = m.scratch[t].en.data() - kb0;
+      const double* __restrict SF[D] = {};
+      const double* __restrict SE = nullptr;
+      if constexpr (!kSlots) {
+        for (int a = 0; a < D; ++a) SF[a] = m.scratch[t].fb[a].data() - kb0;
+        SE = m.scratch[t].en.data() - kb0;
+      }
       const std::ptrdiff_t p0 = blk * kBlock;
       // a block whose bonds all reach partners in this thread's range and in the ring (nearly
       // every block of a lattice) passes their reactions on without the checks below
       std::uint32_t jmax = 0;
-      for (std::uint32_t k = kb0; k < boff[pe]; ++k) jmax = std::max(jmax, bj[k]);
+      if constexpr (!kSlots)
+        for (std::uint32_t k = kb0; k < boff[pe]; ++k) jmax = std::max(jmax, bj[k]);
       const bool near = jmax < std::min(static_cast<std::uint32_t>(e), ring_end);
       const double* __restrict Rb = m.rad.block(static_cast<std::size_t>(p0));
       const double* __restrict IMb = m.im.block(static_cast<std::size_t>(p0));
-      for (std::ptrdiff_t p = p0; p < pe; ++p) {
+      bool in_lanes = false;  // the block's particles updated below in vector lanes
+      if constexpr (kSlots && !kEnergy) {
+        // forces and the free particles' update in vector lanes; the sums, and the particles
+        // with a boundary condition, in particle order
+        if (nwalls == 0) {
+          alignas(64) double FX[D][kBlock], V2[kBlock], DP[kBlock];
+          pull_block(m.slots, p0, pe, FX);
+          update_free_block<DK>(m, c, p0, pe, FX, V2, DP);
+          for (std::ptrdiff_t p = p0; p < pe; ++p) {
+            const std::size_t q = static_cast<std::size_t>(p - p0);
+            double v2 = V2[q];
+            if (!FL[p]) [[likely]] {
+              vfree2 = std::max(vfree2, v2);
+              diss += DP[q];
+            } else {
+              double F[D], vv = 0;
+              for (int a = 0; a < D; ++a) F[a] = FX[a][q];
+              v2 = 0;
+              bc_update<DK>(*bc_it++, c, F, IMb[q], p, X, V, work, work_ex, diss, vfree2, v2, vv);
+            }
+            vmax2 = std::max(vmax2, v2);
+          }
+          in_lanes = true;
+        }
+      }
+      for (std::ptrdiff_t p = p0; p < (in_lanes ? p0 : pe); ++p) {
         double F[D];  // the forces of earlier particles' pairs and of the incoming cross pairs
-        for (int a = 0; a < D; ++a)
-          F[a] = RG[a * ModelData<D>::kRingStride + (static_cast<std::uint32_t>(p) & kRingMask)];
+        if constexpr (kSlots) {
+          pull_slots<kEnergy>(m.slots, p, F, eb);
+        } else {
+          for (int a = 0; a < D; ++a)
+            F[a] = RG[a * ModelData<D>::kRingStride + (static_cast<std::uint32_t>(p) & kRingMask)];
+        }
         // bonds owned by p, then contacts owned by p (fixed order)
-        if (near) {
+        if constexpr (kSlots) {
+        } else if (near) {
           for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
             const std::uint32_t jr = bj[k] & kRingMask;
             for (int a = 0; a < D; ++a) {
@@ -602,53 +923,12 @@ class Engine final : public LawEngine<D> {
           vfree2 = std::max(vfree2, v2);
           diss += dp;
         } else {
-          BcParticle& bc = *bc_it++;
-          double fapp[3] = {0, 0, 0};
-          if (bc.history >= 0)  // load_dir: 1 for a force vector, the unit direction of a radial load
-            for (int a = 0; a < D; ++a) fapp[a] = c.hist[bc.history][a] * bc.load_dir[a];
-          bc.w_ahead = 0;
-          bc.w_ahead_ex = 0;
-          double v2f = 0;  // over the free axes
-          double vv_driven = 0;
-          for (int a = 0; a < D; ++a) {
-            bc.f_int[a] = F[a];
-            const double vo = V[a][p];
-            double vn;
-            if (bc.mode[a] == 0) {
-              vn = integrate<DK>(vo, F[a] + fapp[a], imass, c.g[a], dt, cv, alpha, diss);
-              work += fapp[a] * vn * dt;
-              v2f += vn * vn;
-            } else {
-              if (bc.mode[a] == 1)
-                vn = 0;
-              else if (bc.mode[a] == 2)
-                vn = bc.value[a];
-              else
-                vn = (c.step + 1) % bc.every[a] == 0 ? bc.value[a] / dt : 0.0;
-              // reaction work, trapezoid rule: -½·F(n)·(Δx(n-½) + Δx(n+½))
-              const double dx = vn * dt;
-              const double fr = F[a] + fapp[a] + c.g[a] / imass;
-              work -= 0.5 * fr * (bc.dx_prev[a] + dx);
-              bc.w_ahead -= 0.5 * fr * dx;
-              if (bc.exchange >> a & 1u) {  // booked apart: energy passed between partitions
-                work_ex -= 0.5 * fr * (bc.dx_prev[a] + dx);
-                bc.w_ahead_ex -= 0.5 * fr * dx;
-              }
-              bc.dx_prev[a] = dx;
-              vv_driven += vo * vn;
-            }
-            V[a][p] = vn;
-            X[a][p] += vn * dt;
-            v2 += vn * vn;
-            vv += vo * vn;
-          }
-          vfree2 = std::max(vfree2, v2f);
-          bc.ke_driven = 0.5 * vv_driven / imass;
+          bc_update<DK>(*bc_it++, c, F, imass, p, X, V, work, work_ex, diss, vfree2, v2, vv);
         }
         vmax2 = std::max(vmax2, v2);
         if constexpr (kEnergy) ke += 0.5 * vv / imass;
       }
-      m.pending_advance(t, blk, e);  // may move a slot into the ring
+      if constexpr (!kSlots) m.pending_advance(t, blk, e);  // may move a slot into the ring
       ring_end = static_cast<std::uint32_t>(std::min<std::ptrdiff_t>(e, (blk + 1 + kRingBlocks) * kBlock));
       BlockAcc& A = m.acc[blk];
       A.work += work;
@@ -664,9 +944,15 @@ class Engine final : public LawEngine<D> {
   }
 
   template <Damping DK, bool kEnergy>
-  void step_once(ModelData<D>& m, const StepCtx& c) const {
+  void step_once(ModelData<D>& m, const StepCtx& c, bool in_slots) const {
     const int nt = m.plan.nt;
     ++m.plan.epoch;
+    if constexpr (kSlotsBuilt) {
+      if (in_slots) {
+        phase_b<DK, kEnergy, true>(m, 0, c);
+        return;
+      }
+    }
     par::parallel_team(nt, [&](int t, int team) {
       if (team != nt) {  // fewer threads than planned: run the plan serially on thread 0
         if (t == 0) {
@@ -681,16 +967,16 @@ class Engine final : public LawEngine<D> {
   }
 
   template <bool kEnergy>
-  void dispatch(ModelData<D>& m, const StepCtx& c) const {
+  void dispatch(ModelData<D>& m, const StepCtx& c, bool in_slots) const {
     switch (c.damping) {
       case Damping::None:
-        step_once<Damping::None, kEnergy>(m, c);
+        step_once<Damping::None, kEnergy>(m, c, in_slots);
         break;
       case Damping::Viscous:
-        step_once<Damping::Viscous, kEnergy>(m, c);
+        step_once<Damping::Viscous, kEnergy>(m, c, in_slots);
         break;
       case Damping::Local:
-        step_once<Damping::Local, kEnergy>(m, c);
+        step_once<Damping::Local, kEnergy>(m, c, in_slots);
         break;
     }
   }
