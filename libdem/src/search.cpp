@@ -442,11 +442,7 @@ void Model<D>::build_plan(int nt) {
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
   slots = LatticeSlots{};
-  if (D == 2 && bonds.r0.empty()) {
-    slots = lattice_slots(bonds, N, D);
-    for (int d = 0; d < slots.n; ++d)
-      for (int a = 0; a < D; ++a) std::fill_n(slots.force(d, a), slots.ring, 0.0);
-  }
+  if (D == 2 && nt == 1 && bonds.r0.empty()) slots = lattice_slots(bonds, N, D);  // they serve one thread
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
     bond_owner.resize(bonds.size());
