@@ -1,4 +1,5 @@
-// A prototype of a bond layout the DEM step does not use yet: bonds held in lattice slots.
+// A prototype of bonds held in lattice slots, the layout the DEM step kernel takes for a 2D
+// lattice on one thread (LatticeSlots, libdem), stripped to its arithmetic.
 // On a hexagonal lattice numbered row by row, with rows alternating L and L-1 disks, every
 // bond a disk owns goes to p+1, p+L-1 or p+L; held as one array per direction ("slot"),
 // indexed by the owner, the partners of eight consecutive owners are eight consecutive
@@ -11,7 +12,7 @@
 // shear strength tests, the force), and per disk the damped leapfrog update with viscous
 // damping; left out are the reference kernel's verdicts, boundary conditions, walls, contacts
 // and the energy bookkeeping. Five variants, each a step further from the layout towards the
-// step kernel's present one, the arithmetic the same:
+// general path's, the arithmetic the same:
 //   BM_SlotLayout   slots; forces pulled
 //   BM_Indexed      bonds direction by direction, partners loaded through an index array
 //                   (element by element, as from any list of bonds); forces pulled

@@ -9,7 +9,10 @@
 // phase B gathers those slots, then block by block runs the bond pass and updates the
 // particles, computing each contact on the way (a block owning pairs that a later thread
 // computes waits until it has). Every particle's force is summed in the same order for any
-// thread count (docs/dem.md, "Memory layout and the step loop").
+// thread count (docs/dem.md, "Memory layout and the step loop"). A 2D lattice numbered row
+// by row, on one thread and without contacts, takes the same steps with its bonds in lattice
+// slots (bond_block_slots, then the pulled forces): the same sums in the same order
+// (docs/dem.md, "Bonds in lattice slots").
 #include <strata/core/parallel.hpp>
 #include <strata/dem/detail/bond_pass.hpp>
 #include <strata/dem/detail/law_engine.hpp>
