@@ -256,7 +256,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
         held = in32 | open;
       }
       std::uint32_t bond = k0 + static_cast<std::uint32_t>(qa + i);
-      if constexpr (kInSlots) {  // the owner's first bond, plus its bonds in lower directions
+      if constexpr (kInSlots) {  // LatticeSlots::bond, counted without popcount (vector lanes)
         const std::uint32_t lower = sp.smask[qa + i] & ((1u << sp.dir) - 1u);
         bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
       }

@@ -397,9 +397,8 @@ struct Scratch {
   static_assert(kBlock <= 256, "own holds owner offsets in one byte");
   /// Zero shear histories the bond pass reads where the model keeps none (never written).
   std::vector<std::int32_t> no_us;
-  /// The bond pass in lattice slots: the verdicts of one direction's entries of a block, and
-  /// the bonds left to the reference kernel (bond index, owner, direction).
-  std::vector<std::uint8_t> sslow;
+  /// The bond pass in lattice slots: the bonds left to the reference kernel (bond index,
+  /// owner, direction); the verdicts of one direction's entries of a block go to `slow`.
   std::vector<std::array<std::uint32_t, 3>> sref;
   void fit(std::size_t m) {
     if (own.size() < m + 8) own.resize(m + 8);  // the owners' eight-byte writes reach 7 past the last bond

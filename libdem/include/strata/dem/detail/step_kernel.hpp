@@ -474,11 +474,11 @@ class Engine final : public LawEngine<D> {
     LatticeSlots& L = m.slots;
     Scratch<D>& S = m.scratch[t];
     const std::size_t nb = static_cast<std::size_t>(pe - p0);
-    if (S.sslow.size() < nb) S.sslow.resize(nb);
+    if (S.slow.size() < nb) S.slow.resize(nb);
     if (S.no_us.size() < nb * kNs) S.no_us.assign(nb * kNs, 0);
     S.sref.clear();
     const bool keep_us = !m.bond_us.empty();
-    std::uint8_t* __restrict sslow = S.sslow.data();
+    std::uint8_t* __restrict sslow = S.slow.data();  // one direction's verdicts at a time
     static double no_wide[kNs] = {};
     const std::size_t rmask = L.ring - 1, r0 = static_cast<std::size_t>(p0) & rmask;
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(m.n());
@@ -523,16 +523,13 @@ class Engine final : public LawEngine<D> {
       bool any_slow = false;
       sp.slow_seen = &any_slow;
       bond_chunks<D, Law, kEnergy, kRest, true>(sp, laws[0], c.dt, m.uniform_diameter, len);
-      if (any_slow) [[unlikely]] {
-        const std::uint8_t* mk = L.mask.data();
-        const unsigned lower = (1u << d) - 1u;
+      if (any_slow) [[unlikely]]
         for (std::size_t q = 0; q < len; ++q)
           if (sslow[q]) {
             const auto p = static_cast<std::size_t>(p0) + q;
-            const auto k = m.bonds.off[p] + static_cast<std::uint32_t>(std::popcount(mk[p] & lower));
-            S.sref.push_back({k, static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(d)});
+            S.sref.push_back({L.bond(m.bonds.off[p], L.mask[p], d), static_cast<std::uint32_t>(p),
+                              static_cast<std::uint32_t>(d)});
           }
-      }
     }
     if (S.sref.empty()) [[likely]]
       return;
@@ -851,6 +848,7 @@ class Engine final : public LawEngine<D> {
         }
         // bonds owned by p, then contacts owned by p (fixed order)
         if constexpr (kSlots) {
+          // its own bonds are in F already (pull_slots)
         } else if (near) {
           for (std::uint32_t k = boff[p]; k < boff[p + 1]; ++k) {
             const std::uint32_t jr = bj[k] & kRingMask;
