@@ -65,6 +65,7 @@ std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, dou
   if (mass <= 0) mass = lattice_particle_mass(D, materials[m].density, d);
   STRATA_CHECK(mass > 0 && std::isfinite(mass), Input,
                "add_particle: mass {} must be > 0 (kg); is the material's density set?", mass);
+  slots_release();  // the slots are laid out over the particles there are
   for (int a = 0; a < D; ++a) {
     x[a].push_back(p[a]);
     v[a].push_back(0.0);

@@ -345,7 +345,7 @@ std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
   return begin;
 }
 
-LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes) {
+LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int threads) {
   LatticeSlots s;
   if (bonds.size() == 0) return s;
   // the distinct offsets of partners from owners, ascending
@@ -369,10 +369,28 @@ LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes) {
     }
   s.n = static_cast<int>(offs.size());
   std::copy(offs.begin(), offs.end(), s.off);
+  // columns of the bonds' state: each direction joins the first column none of whose
+  // directions a particle owns together with it
+  bool seen[1u << LatticeSlots::kMax] = {};
+  for (const std::uint8_t m : s.mask) seen[m] = true;
+  unsigned members[LatticeSlots::kMax] = {};  // each column's directions, bit d
+  for (int d = 0; d < s.n; ++d) {
+    int c = 0;
+    for (;; ++c) {
+      bool apart = true;
+      for (unsigned m = 0; m < (1u << LatticeSlots::kMax); ++m)
+        apart = apart && !(seen[m] && (m >> d & 1u) && (m & members[c]));
+      if (apart) break;
+    }
+    members[c] |= 1u << d;
+    s.col[d] = c;
+    s.cols = std::max(s.cols, c + 1);
+  }
   s.ring = ring;
   s.axes = axes;
-  s.f.assign(static_cast<std::size_t>(s.n) * axes * ring, 0.0);
-  s.en.assign(static_cast<std::size_t>(s.n) * ring, 0.0);
+  s.threads = threads;
+  s.f.assign(static_cast<std::size_t>(threads) * s.n * axes * ring, 0.0);
+  s.en.assign(static_cast<std::size_t>(threads) * s.n * ring, 0.0);
   return s;
 }
 
@@ -442,7 +460,7 @@ void Model<D>::build_plan(int nt) {
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
   slots = LatticeSlots{};
-  if (D == 2 && nt == 1 && bonds.r0.empty()) slots = lattice_slots(bonds, N, D);  // they serve one thread
+  if (D == 2 && bonds.r0.empty()) slots = lattice_slots(bonds, N, D, nt);
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
     bond_owner.resize(bonds.size());

@@ -63,16 +63,19 @@ Outcome run(int dim, int threads, int chunks = 1, bool ecc = false, bool slots =
 void check(int dim, bool ecc = false) {
   // 1, 2 and 3 threads; and 2 threads in 3 chunks (probes between chunks must not change
   // the trajectory: the driver runs in chunks, a restart continues in chunks)
-  // A 2D lattice numbered row by row steps in lattice slots on one thread (while it has no
-  // contacts); the general bond pass (f, and every run on more threads) gives the same bits.
+  // A 2D lattice numbered row by row steps in lattice slots on any number of threads (while
+  // it has no contacts); the general bond pass (f and h) gives the same bits.
   const Outcome a = run(dim, 1, 1, ecc), b = run(dim, 2, 1, ecc), c = run(dim, 3, 1, ecc),
-                d = run(dim, 2, 3, ecc), f = run(dim, 1, 1, ecc, false), g = run(dim, 1, 3, ecc);
+                d = run(dim, 2, 3, ecc), f = run(dim, 1, 1, ecc, false), g = run(dim, 1, 3, ecc),
+                h = run(dim, 3, 1, ecc, false);
   EXPECT_GT(a.broken, 10u) << "the test must exercise breaking";
   if (dim == 2 && !ecc) {
-    EXPECT_GT(a.slot_steps, 100) << "the 2D lattice must step in slots, through its first breaks";
+    for (const Outcome* o : {&a, &b, &c, &d})
+      EXPECT_GT(o->slot_steps, 100) << "the 2D lattice must step in slots, through its first breaks";
     EXPECT_EQ(f.slot_steps, 0);
+    EXPECT_EQ(h.slot_steps, 0);
   }
-  for (const Outcome* o : {&b, &c, &d, &f, &g}) {
+  for (const Outcome* o : {&b, &c, &d, &f, &g, &h}) {
     // exact equality: the design sums every force in a fixed order
     EXPECT_EQ(o->hash, a.hash);
     EXPECT_EQ(o->broken, a.broken);
@@ -119,4 +122,31 @@ TEST(Determinism, TimeStepBoundAndEstimateSameFor1To3Threads) {
     EXPECT_EQ(got[k][0], got[0][0]) << "bound, threads " << k + 1;
     EXPECT_EQ(got[k][1], got[0][1]) << "estimate, threads " << k + 1;
   }
+}
+
+TEST(Determinism, ParticleAddedAfterStepsInSlots) {
+  // A particle added to a 2D lattice that has stepped in lattice slots: the bonds' state
+  // comes back from the slots before the particle arrays grow, and the run goes on with the
+  // same bits as on the general path.
+  auto run = [](bool slots) {
+    const auto lat = preprocess::hex2d_rows(30, 24, kRockD);
+    Simulation sim(2, Settings{.dt = 1e-12, .lattice_slots = slots});
+    add_lattice(sim, lat, sim.add_material(rock_material()));
+    sim.add_to_group(preprocess::top_row(lat), "top");
+    sim.prescribe_velocity("top", {0, -10.0, 0}, kY);
+    sim.bond_touching_pairs();
+    sim.initialise();
+    sim.set_dt(0.5 * sim.critical_dt());
+    sim.run(300);
+    const std::int64_t before = sim.steps_in_lattice_slots();
+    sim.add_particle({0.0, 1.0, 0.0}, kRockD / 2, 0);  // far above the block
+    sim.run(300);
+    return std::array<std::uint64_t, 3>{sim.state_hash(), static_cast<std::uint64_t>(before),
+                                        static_cast<std::uint64_t>(sim.steps_in_lattice_slots())};
+  };
+  const auto a = run(true), b = run(false);
+  EXPECT_EQ(a[1], 300u);
+  EXPECT_EQ(a[2], 600u);  // the lone particle has no bond: the slots are built anew
+  EXPECT_EQ(b[2], 0u);
+  EXPECT_EQ(a[0], b[0]);
 }

@@ -64,7 +64,8 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
   // normal springs only, from an owner byte per bond. The 2D lattice, numbered row by row
   // (rows of 100 disks), holds its bonds in lattice slots: a byte per disk saying which of
   // the three directions it owns, and a ring of 512 entries of each direction's forces and
-  // energies (3 × (2 + 1) doubles each); their state is copied in when a step takes them.
+  // energies (3 × (2 + 1) doubles each); their state is copied in when a step takes them,
+  // and the bonds' own arrays of it are let go while the model steps.
   for (const int dim : {2, 3})
     for (const bool central : {false, true}) {  // central: ks = 0, and no shear history is kept
       Settings s;
@@ -91,6 +92,16 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
       // (the front's slots are taken while stepping)
       EXPECT_LE(got, arrays + ring + 4 * n)
           << dim << "D: " << (got - arrays - ring) / n << " B per particle more";
+      if (dim == 2) {
+        // stepping in slots: the bonds' state byte and shear history move into three columns
+        // of slots (one per direction) and the bonds' own arrays of them are let go
+        sim.run(1);
+        ASSERT_EQ(sim.steps_in_lattice_slots(), 1);
+        const double moved = (1 + 4 * ns);
+        EXPECT_EQ(static_cast<double>(sim.memory_bytes()), got - nb * moved + 3 * n * moved);
+        EXPECT_EQ(sim.broken_bonds().size(), 0u);  // a reader: the arrays are held again
+        EXPECT_EQ(static_cast<double>(sim.memory_bytes()), got + 3 * n * moved);
+      }
     }
 }
 

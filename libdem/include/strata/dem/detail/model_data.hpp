@@ -121,15 +121,19 @@ struct BondShear {
   static constexpr double kReach = 1073741824.0;  ///< 2^30: the largest |Us|/unit held
   static constexpr double kReach2 = kReach * kReach;
   static constexpr std::int32_t kWideBelow = -(1 << 30);  ///< a first slot below it marks a wide bond
-  std::vector<std::int32_t> q;                            ///< NS per bond
+  /// NS per bond; let go (empty) while a model in lattice slots holds them there
+  /// (ModelData::slots_let_go)
+  std::vector<std::int32_t> q;
+  std::size_t count = 0;     ///< NS per bond of the model: q's size where it is held
   std::vector<double> wide;  ///< NS per wide bond (and stale entries of bonds held in 32 bits again)
   double unit = 0, inv = 0;  ///< powers of two; inv = 1/unit
   /// Whether an intact bond may be wide (one went beyond the reach at some time): until
   /// then only broken bonds are, and the bond pass finds them by their state alone.
   bool intact_wide = false;
-  /// A bond that became wide during a step, with its new components.
+  /// A bond that became wide during a step (h: where its first component is held), with its
+  /// new components.
   struct Fresh {
-    std::uint32_t k;
+    std::int32_t* h;
     bool intact;
     double u[NS];
   };
@@ -137,7 +141,7 @@ struct BondShear {
   /// their entries when the step is done, in thread order.
   std::vector<std::vector<Fresh>> fresh;
 
-  bool empty() const { return q.empty(); }
+  bool empty() const { return count == 0; }
   static bool is_wide(std::int32_t h) { return h < kWideBelow; }
   static std::size_t index_of(std::int32_t h) { return static_cast<std::uint32_t>(h) ^ 0x80000000u; }
   static std::int32_t code_of(std::size_t index) {
@@ -187,8 +191,9 @@ struct BondShear {
     return within(u2, inv);
   }
   /// Bond k's components into u.
-  void load(std::size_t k, double* u) const {
-    const std::int32_t* h = q.data() + k * NS;
+  void load(std::size_t k, double* u) const { load_at(q.data() + k * NS, u); }
+  /// The components of the bond held at h (its NS entries, here or in lattice slots) into u.
+  void load_at(const std::int32_t* h, double* u) const {
     if (is_wide(h[0])) {
       const double* w = wide.data() + index_of(h[0]) * NS;
       for (int a = 0; a < NS; ++a) u[a] = w[a];
@@ -200,7 +205,10 @@ struct BondShear {
   /// the bond is intact and within the reach, else in its wide entry, which a bond that was
   /// not wide gets at the step's end (merge).
   void store(int t, std::size_t k, std::uint32_t salt, bool intact, const double* u) {
-    std::int32_t* h = q.data() + k * NS;
+    store_at(t, k, q.data() + k * NS, salt, intact, u);
+  }
+  /// The same for bond k held at h (here or in lattice slots).
+  void store_at(int t, std::size_t k, std::int32_t* h, std::uint32_t salt, bool intact, const double* u) {
     if (intact && fits(u)) {
       const std::uint32_t bits = dither_bits(static_cast<std::uint32_t>(k), salt);
       for (int a = 0; a < NS; ++a) h[a] = steps_of(u[a] * inv, bits, a);
@@ -208,7 +216,7 @@ struct BondShear {
       double* w = wide.data() + index_of(h[0]) * NS;
       for (int a = 0; a < NS; ++a) w[a] = u[a];
     } else {
-      Fresh f{static_cast<std::uint32_t>(k), intact, {}};
+      Fresh f{h, intact, {}};
       for (int a = 0; a < NS; ++a) f.u[a] = u[a];
       fresh[static_cast<std::size_t>(t)].push_back(f);
     }
@@ -216,19 +224,21 @@ struct BondShear {
   /// Gives the bonds that became wide in the step their entries (serial, after the step).
   void merge() {
     for (auto& list : fresh) {
-      for (const Fresh& f : list) add_wide(f.k, f.intact, f.u);
+      for (const Fresh& f : list) add_wide_at(f.h, f.intact, f.u);
       list.clear();
     }
   }
   /// Zero histories for `bonds` bonds, held in steps of `new_unit`.
   void reset(std::size_t bonds, double new_unit) {
     q.assign(bonds * NS, 0);
+    count = q.size();
     wide.clear();
     intact_wide = false;
     unit = new_unit;
     inv = 1.0 / new_unit;
   }
   void clear() {
+    count = 0;
     q.clear();
     q.shrink_to_fit();
     wide.clear();
@@ -259,9 +269,10 @@ struct BondShear {
 
  private:
   /// Bond k (intact or not) gets a new wide entry holding u.
-  void add_wide(std::size_t k, bool intact, const double* u) {
+  void add_wide(std::size_t k, bool intact, const double* u) { add_wide_at(q.data() + k * NS, intact, u); }
+  void add_wide_at(std::int32_t* h, bool intact, const double* u) {
     intact_wide |= intact;
-    q[k * NS] = code_of(wide.size() / NS);
+    h[0] = code_of(wide.size() / NS);
     wide.insert(wide.end(), u, u + NS);
   }
 };
@@ -421,7 +432,9 @@ inline constexpr std::size_t kMaxSlotRing = 8192;
 /// order the step loop otherwise pushes them (ascending owner, then its own bonds by
 /// ascending partner), so the two forms give the same bits. Set by Model::build_plan; the
 /// step kernel takes this form on one thread for a model of one material, bonds without
-/// per-bond rest lengths and no contacts at the time (docs/dem.md, "Bonds in lattice slots").
+/// per-bond rest lengths and no contacts at the time (docs/dem.md, "Bonds in lattice slots"),
+/// on any number of threads: each has a ring of its own, and the bonds that cross into a
+/// later thread's range are computed by that thread (phase A) and copied into both rings.
 struct LatticeSlots {
   /// Directions: three for a hexagonal lattice of rows of L and L - 1 disks (partners p + 1,
   /// p + L - 1, p + L), four for one of rows of L disks each (an owner in an even row bonds
@@ -432,35 +445,51 @@ struct LatticeSlots {
   /// Per particle, bit d: it owns a bond in direction d (its partner is p + off[d]). That
   /// bond's index is bonds.off[p] + the number of p's bonds in earlier directions.
   std::vector<std::uint8_t> mask;
-  /// Forces (D per direction) and energies of the bonds a block's owners hold, per
-  /// direction, in a ring over the particles: ring entries, a power of two, at least
+  /// Forces (D per direction) and energies of the bonds a block's owners hold, per thread
+  /// and direction, in a ring over the particles: ring entries, a power of two, at least
   /// off[n - 1] + kBlock, so an owner's entry lives until its partners have pulled it.
   std::size_t ring = 0;
-  std::vector<double> f, en;  // f: [direction][axis][ring entry], en: [direction][ring entry]
+  int threads = 1;
+  std::vector<double> f, en;  // f: [thread][direction][axis][ring entry], en: [thread][direction][ring entry]
   /// The bonds' state and shear history (BondShear's 32-bit steps or wide code, ns each)
-  /// by direction and owner, [d][p]: where a model steps in slots these are its bonds'
+  /// by column and owner, [col[d]][p]: where a model steps in slots these are its bonds'
   /// state, and the bonds' own arrays (PairList::st, BondShear::q) are brought up to date
-  /// when something else reads them (ModelData::bonds_current). An owner without the bond
-  /// holds kIntact and zeros, which the bond pass never changes.
+  /// when something else reads them (ModelData::bonds_current). Directions no particle
+  /// owns both of share a column (p + L - 1 and p + L + 1 in a lattice of rows of equal
+  /// length: 3 columns for 4 directions). An entry without a bond in any of its column's
+  /// directions holds kIntact and zeros; the bond pass leaves every entry without a bond
+  /// in the direction it computes as it was.
   std::vector<std::uint8_t> st;
   std::vector<std::int32_t> uq;
   bool held = false;   // st and uq hold the bonds' state
   bool ahead = false;  // ... and the bonds' own arrays are behind it
-  /// The bonds the reference kernel took in this step, (bond, owner, direction): their
-  /// shear history may get a wide entry when the step ends (BondShear::merge).
-  std::vector<std::array<std::uint32_t, 3>> touched;
   /// The bond of owner p in direction d (bit d of mask[p] set), given p's first bond.
   std::uint32_t bond(std::uint32_t first, std::uint8_t m, int d) const {
     return first + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(m & ((1u << d) - 1))));
   }
+  int cols = 0;
+  int col[kMax]{};
+  /// The entry of owner p's bond in direction d in st (and its kNs in uq), of n particles.
+  std::size_t entry(int d, std::size_t p, std::size_t n) const {
+    return static_cast<std::size_t>(col[d]) * n + p;
+  }
+  /// The direction of a bond from owner p to partner j.
+  int direction(std::uint32_t p, std::uint32_t j) const {
+    int d = 0;
+    while (off[d] != j - p) ++d;
+    return d;
+  }
   int axes = 0;  // D
-  double* force(int d, int a) { return f.data() + (static_cast<std::size_t>(d) * axes + a) * ring; }
-  double* energy(int d) { return en.data() + static_cast<std::size_t>(d) * ring; }
+  double* force(int t, int d, int a) {
+    return f.data() + ((static_cast<std::size_t>(t) * n + d) * axes + a) * ring;
+  }
+  double* energy(int t, int d) { return en.data() + (static_cast<std::size_t>(t) * n + d) * ring; }
 };
 
-/// The slots of `bonds` over n particles of dimension axes (LatticeSlots::n = 0 where they do
-/// not fit: more than LatticeSlots::kMax offsets, or one beyond the ring).
-LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes);
+/// The slots of `bonds` over n particles of dimension axes, with rings for `threads` threads
+/// (LatticeSlots::n = 0 where they do not fit: more than LatticeSlots::kMax offsets, or one
+/// beyond the ring).
+LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int threads = 1);
 
 /// What one step needs besides the arrays.
 struct StepCtx {
@@ -580,20 +609,21 @@ struct ModelData {
   }
   /// Bond k (owner p, direction d) from the bonds' arrays into its slot, or back.
   void slot_take(std::uint32_t k, std::size_t p, int d) {
-    const std::size_t s = static_cast<std::size_t>(d) * n() + p;
+    const std::size_t s = slots.entry(d, p, n());
     slots.st[s] = bonds.st[k];
     if (!bond_us.empty())
       for (int a = 0; a < kNs; ++a) slots.uq[s * kNs + a] = bond_us.q[std::size_t{k} * kNs + a];
   }
   void slot_give(std::uint32_t k, std::size_t p, int d) {
-    const std::size_t s = static_cast<std::size_t>(d) * n() + p;
+    const std::size_t s = slots.entry(d, p, n());
     bonds.st[k] = slots.st[s];
     if (!bond_us.empty())
       for (int a = 0; a < kNs; ++a) bond_us.q[std::size_t{k} * kNs + a] = slots.uq[s * kNs + a];
   }
-  /// The bonds' state into the slots, which hold it from now on.
+  /// The bonds' state into the slots, which hold it from now on (the bonds' own arrays of
+  /// it are let go by the step: slots_let_go).
   void slots_take_state() {
-    const std::size_t ns = static_cast<std::size_t>(slots.n) * n();
+    const std::size_t ns = static_cast<std::size_t>(slots.cols) * n();
     slots.st.assign(ns, pair_state::kIntact);
     slots.uq.assign(bond_us.empty() ? 0 : ns * kNs, 0);
     for_each_slot([&](std::uint32_t k, std::size_t p, int d) { slot_take(k, p, d); });
@@ -606,8 +636,21 @@ struct ModelData {
   void bonds_current() const {
     if (!slots.ahead) return;
     auto& self = const_cast<ModelData&>(*this);
+    if (bonds.st.size() != bonds.size()) {  // let go while stepping: held again
+      self.bonds.st.resize(bonds.size());
+      self.bond_us.q.resize(bond_us.count);
+    }
     self.for_each_slot([&](std::uint32_t k, std::size_t p, int d) { self.slot_give(k, p, d); });
     self.slots.ahead = false;
+  }
+  /// While a model steps in slots, the bonds' own arrays of their state (PairList::st,
+  /// BondShear::q: 5 B per bond in 2D) are let go, and bonds_current() allocates them again
+  /// when something reads them between steps, until the next step.
+  void slots_let_go() {
+    if (bonds.st.empty()) return;
+    std::vector<std::uint8_t>().swap(bonds.st);  // their memory goes (clear() would keep it)
+    std::vector<std::int32_t>().swap(bond_us.q);
+    slots.ahead = true;
   }
   /// The bonds' arrays up to date and the slots' copy let go (before the arrays change, or a
   /// step that does not use slots).

@@ -10,9 +10,9 @@
 // particles, computing each contact on the way (a block owning pairs that a later thread
 // computes waits until it has). Every particle's force is summed in the same order for any
 // thread count (docs/dem.md, "Memory layout and the step loop"). A 2D lattice numbered row
-// by row, on one thread and without contacts, takes the same steps with its bonds in lattice
-// slots (bond_block_slots, then the pulled forces): the same sums in the same order
-// (docs/dem.md, "Bonds in lattice slots").
+// by row and without contacts takes the same steps with its bonds in lattice slots
+// (bond_block_slots, then the pulled forces): the same sums in the same order (docs/dem.md,
+// "Bonds in lattice slots").
 #include <strata/core/parallel.hpp>
 #include <strata/dem/detail/bond_pass.hpp>
 #include <strata/dem/detail/law_engine.hpp>
@@ -59,7 +59,7 @@ class Engine final : public LawEngine<D> {
     const bool in_slots = slots_apply(m, c);
     if (in_slots) {
       if (!m.slots.held) m.slots_take_state();
-      m.slots.touched.clear();
+      m.slots_let_go();
     } else if (m.slots.held) {
       m.slots_release();
     }
@@ -68,18 +68,15 @@ class Engine final : public LawEngine<D> {
     else
       dispatch<false>(m, c, in_slots);
     if (!m.bond_us.empty()) m.bond_us.merge();  // bonds that became wide get their entries
-    if (in_slots) {
-      for (const auto& [k, p, d] : m.slots.touched) m.slot_take(k, p, static_cast<int>(d));
-      m.slots.ahead = true;
-      ++m.slots_steps;
-    }
+    if (in_slots) ++m.slots_steps;
   }
 
   /// Whether this step runs in lattice slots: a 2D law with a batch form, one material, the
-  /// model held in slots, one thread and no contacts now (their forces would come between
-  /// the bonds' in each particle's sum).
+  /// model held in slots (for the plan's threads) and no contacts now (their forces would
+  /// come between the bonds' in each particle's sum).
   bool slots_apply(const ModelData<D>& m, const StepCtx& c) const {
-    return kSlotsBuilt && c.slots && m.slots.n > 0 && m.plan.nt == 1 && m.contacts.size() == 0 && nmat == 1;
+    return kSlotsBuilt && c.slots && m.slots.n > 0 && m.slots.threads == m.plan.nt &&
+           m.contacts.size() == 0 && nmat == 1;
   }
 
   double shear_reach() const override {
@@ -267,23 +264,33 @@ class Engine final : public LawEngine<D> {
   /// pair_force on bond k of thread t's step, with its shear history taken from the bonds'
   /// store and put back.
   template <bool kEnergy>
-  [[gnu::noinline]] double bond_force(ModelData<D>& m, int t, const StepCtx& c, const double* const* X,
-                                      const double* const* V, std::size_t p, std::uint32_t k, double* F,
-                                      int& broke) const {
-    const std::uint32_t j = m.bonds.j[k];
-    double us[kNs];
-    m.load_us(m.bonds, k, us);
-    std::uint8_t& st = m.bonds.st[k];
+  double bond_force(ModelData<D>& m, int t, const StepCtx& c, const double* const* X, const double* const* V,
+                    std::size_t p, std::uint32_t k, double* F, int& broke) const {
+    return bond_force_at<kEnergy>(m, t, c, X, V, p, k, m.bonds.j[k], m.bonds.st[k],
+                                  m.bond_us.empty() ? nullptr : m.bond_us.q.data() + std::size_t{k} * kNs, F,
+                                  broke);
+  }
+  /// The same for bond k to partner j whose state st and shear history h (nullptr: none kept)
+  /// are held where the caller says (in the bonds' arrays, or in lattice slots).
+  template <bool kEnergy>
+  [[gnu::noinline]] double bond_force_at(ModelData<D>& m, int t, const StepCtx& c, const double* const* X,
+                                         const double* const* V, std::size_t p, std::uint32_t k,
+                                         std::uint32_t j, std::uint8_t& st, std::int32_t* h, double* F,
+                                         int& broke) const {
+    double us[kNs] = {};
+    if (h) m.bond_us.load_at(h, us);
     const double e = pair_force<kEnergy>(X, V, m.rest_of(m.bonds, k, p, j), p, j, st, us,
                                          law_for(m, m.bonds, k, p, j), c.dt, F, broke);
-    if (!m.bond_us.empty())
-      m.bond_us.store(t, k, c.salt, (st & pair_state::kKindMask) == pair_state::kIntact, us);
+    if (h) m.bond_us.store_at(t, k, h, c.salt, (st & pair_state::kKindMask) == pair_state::kIntact, us);
     return e;
   }
 
   // Phase A: the cross pairs whose partner lies in this thread's range (their owners lie in
   // earlier threads' ranges, which do not move them before this thread's count says so).
-  template <bool kEnergy>
+  // With kSlots (the model in lattice slots, no contacts) each is a bond whose state the
+  // slots hold, where the reference kernel takes it; its force and energy also go to this
+  // thread's ring, where its partner pulls them.
+  template <bool kEnergy, bool kSlots = false>
   void phase_a(ModelData<D>& m, int t, const StepCtx& c) const {
     const double* X[D];
     const double* V[D];
@@ -299,7 +306,15 @@ class Engine final : public LawEngine<D> {
       double F[D], none[kNs];
       int broke = 0;
       double e;
-      if (!x.contact) {
+      if constexpr (kSlots) {
+        LatticeSlots& L = m.slots;
+        const std::uint32_t j = m.bonds.j[k];
+        const int d = L.direction(p, j);
+        e = slot_bond_force<kEnergy>(m, t, c, X, V, p, k, j, d, F, broke);
+        const std::size_t r = p & (L.ring - 1);
+        for (int a = 0; a < D; ++a) L.force(t, d, a)[r] = F[a];
+        L.energy(t, d)[r] = e;
+      } else if (!x.contact) {
         e = bond_force<kEnergy>(m, t, c, X, V, p, k, F, broke);
       } else {
         PairList& L = m.contacts;
@@ -462,15 +477,14 @@ class Engine final : public LawEngine<D> {
     }
   }
 
-  // The bond pass of one block in lattice slots (LatticeSlots; one thread, so every partner
-  // is in range): direction by direction, the block's owners' entries of the slots go
-  // through bond_chunks with kInSlots; forces and energies land in the slots' ring. The bonds
-  // the batch form leaves are then redone by the reference kernel in bond order, as
-  // bond_block does, on the bonds' own arrays (brought up to date for those bonds, and the
-  // result taken back).
+  // The bond pass of one block in lattice slots (LatticeSlots): direction by direction, the
+  // entries of the block's owners whose partner lies in this thread's range (j < e; the
+  // others are phase A's of a later thread) go through bond_chunks with kInSlots; forces and
+  // energies land in the thread's ring. The bonds the batch form leaves are then redone by
+  // the reference kernel in bond order, as bond_block does, on their state in the slots.
   template <bool kEnergy, Rest kRest>
-  void bond_block_slots(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0,
-                        std::ptrdiff_t pe) const {
+  void bond_block_slots(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0, std::ptrdiff_t pe,
+                        std::ptrdiff_t e) const {
     LatticeSlots& L = m.slots;
     Scratch<D>& S = m.scratch[t];
     const std::size_t nb = static_cast<std::size_t>(pe - p0);
@@ -483,10 +497,11 @@ class Engine final : public LawEngine<D> {
     const std::size_t rmask = L.ring - 1, r0 = static_cast<std::size_t>(p0) & rmask;
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(m.n());
     for (int d = 0; d < L.n; ++d) {
-      const std::ptrdiff_t pb = std::min<std::ptrdiff_t>(pe, n - L.off[d]);  // owners whose partner exists
+      const std::ptrdiff_t pb =
+          std::min<std::ptrdiff_t>(pe, e - L.off[d]);  // owners whose partner is in range
       if (pb <= p0) continue;
       const std::size_t len = static_cast<std::size_t>(pb - p0);
-      const std::size_t s0 = static_cast<std::size_t>(d) * m.n() + static_cast<std::size_t>(p0);
+      const std::size_t s0 = L.entry(d, static_cast<std::size_t>(p0), m.n());
       BondSpan sp{m.x[0].data(),
                   m.x[1].data(),
                   m.x[D - 1].data(),
@@ -497,10 +512,10 @@ class Engine final : public LawEngine<D> {
                   nullptr,
                   nullptr,
                   nullptr,
-                  L.force(d, 0) + r0,
-                  L.force(d, 1) + r0,
-                  L.force(d, D - 1) + r0,
-                  L.energy(d) + r0,
+                  L.force(t, d, 0) + r0,
+                  L.force(t, d, 1) + r0,
+                  L.force(t, d, D - 1) + r0,
+                  L.energy(t, d) + r0,
                   keep_us ? L.uq.data() + s0 * kNs : S.no_us.data(),
                   m.bond_us.wide.empty() ? no_wide : m.bond_us.wide.data(),
                   keep_us ? m.bond_us.unit : 0.0,
@@ -543,16 +558,25 @@ class Engine final : public LawEngine<D> {
     for (const auto& [k, p, d] : S.sref) {
       double F[D];
       int broke = 0;
-      m.slot_give(k, p, static_cast<int>(d));
-      const double e = bond_force<kEnergy>(m, t, c, X, V, p, k, F, broke);
-      m.slot_take(k, p, static_cast<int>(d));
-      L.touched.push_back({k, p, d});
+      const std::uint32_t j = p + L.off[d];
+      const double e = slot_bond_force<kEnergy>(m, t, c, X, V, p, k, j, static_cast<int>(d), F, broke);
       const std::size_t r = p & rmask;
-      for (int a = 0; a < D; ++a) L.force(static_cast<int>(d), a)[r] = F[a];
-      L.energy(static_cast<int>(d))[r] = e;
+      for (int a = 0; a < D; ++a) L.force(t, static_cast<int>(d), a)[r] = F[a];
+      L.energy(t, static_cast<int>(d))[r] = e;
       if (broke) [[unlikely]]
-        record(m, t, c.step, p, m.bonds.j[k], broke);
+        record(m, t, c.step, p, j, broke);
     }
+  }
+
+  /// bond_force_at on bond k (owner p, partner j, direction d) held in lattice slots.
+  template <bool kEnergy>
+  double slot_bond_force(ModelData<D>& m, int t, const StepCtx& c, const double* const* X,
+                         const double* const* V, std::size_t p, std::uint32_t k, std::uint32_t j, int d,
+                         double* F, int& broke) const {
+    LatticeSlots& L = m.slots;
+    const std::size_t s = L.entry(d, p, m.n());
+    return bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s],
+                                  m.bond_us.empty() ? nullptr : &L.uq[s * kNs], F, broke);
   }
 
   /// One particle with a boundary condition through the update: its free axes by the damped
@@ -609,11 +633,29 @@ class Engine final : public LawEngine<D> {
     bc.ke_driven = 0.5 * vv_driven / imass;
   }
 
-  /// The bond forces of particles p0..pe-1 from the slots' ring into F[a][p - p0], in vector
+  /// Into thread t's ring: the forces and energies of the bonds owned by particles p0..pe-1
+  /// whose partner lies in a later thread's range (at or beyond e), from the slots phase A
+  /// of that thread computed them into (cross_b from `cur` on, in ascending owner and
+  /// direction, as the plan numbers them). Out of line: a few blocks of a range have any.
+  [[gnu::noinline]] static void slots_cross_in(ModelData<D>& m, int t, std::ptrdiff_t p0, std::ptrdiff_t pe,
+                                               std::ptrdiff_t e, std::size_t& cur) {
+    LatticeSlots& L = m.slots;
+    const std::size_t rmask = L.ring - 1;
+    for (std::ptrdiff_t p = std::max<std::ptrdiff_t>(p0, e - L.off[L.n - 1]); p < pe; ++p)
+      for (int d = 0; d < L.n; ++d)
+        if ((L.mask[p] >> d & 1u) && p + static_cast<std::ptrdiff_t>(L.off[d]) >= e) {
+          const double* s = &m.cross_b[cur++ * (D + 1)];
+          const std::size_t r = static_cast<std::size_t>(p) & rmask;
+          for (int a = 0; a < D; ++a) L.force(t, d, a)[r] = s[a];
+          L.energy(t, d)[r] = s[D];
+        }
+  }
+
+  /// The bond forces of particles p0..pe-1 from thread t's ring into F[a][p - p0], in vector
   /// lanes: direction by direction, minus the bonds they are the partner of (descending
   /// direction: ascending owner), then plus their own (ascending partner), each where the
   /// bond exists. Every particle's sum takes the terms in pull_slots' order.
-  static void pull_block(LatticeSlots& L, std::ptrdiff_t p0, std::ptrdiff_t pe, double (*F)[kBlock]) {
+  static void pull_block(LatticeSlots& L, int t, std::ptrdiff_t p0, std::ptrdiff_t pe, double (*F)[kBlock]) {
     const std::size_t nb = static_cast<std::size_t>(pe - p0), rmask = L.ring - 1;
     const std::uint8_t* __restrict mk = L.mask.data();
     for (int a = 0; a < D; ++a) std::fill_n(F[a], nb, 0.0);
@@ -622,7 +664,7 @@ class Engine final : public LawEngine<D> {
       const std::uint8_t* __restrict M = mk + p0 - shift;
       for (int a = 0; a < D; ++a) {
         const std::size_t r = static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)) & rmask;
-        const double* __restrict R = L.force(d, a) + r - qa;
+        const double* __restrict R = L.force(t, d, a) + r - qa;
         double* __restrict Fa = F[a];
         const unsigned sh = static_cast<unsigned>(d);
         if (own) {
@@ -695,11 +737,11 @@ class Engine final : public LawEngine<D> {
     }
   }
 
-  /// Particle p's bond forces from the slots' ring: minus those of the bonds it is the
+  /// Particle p's bond forces from thread t's ring: minus those of the bonds it is the
   /// partner of, by ascending owner (descending direction), then plus its own, by ascending
   /// partner; eb gains its own bonds' energies in the same order (kEnergy).
   template <bool kEnergy>
-  static inline void pull_slots(LatticeSlots& L, std::ptrdiff_t p, double* F, double& eb) {
+  static inline void pull_slots(LatticeSlots& L, int t, std::ptrdiff_t p, double* F, double& eb) {
     const std::uint8_t* mk = L.mask.data();
     const std::size_t rmask = L.ring - 1;
     for (int a = 0; a < D; ++a) F[a] = 0.0;
@@ -707,22 +749,23 @@ class Engine final : public LawEngine<D> {
       const std::ptrdiff_t o = p - static_cast<std::ptrdiff_t>(L.off[d]);
       if (o >= 0 && (mk[o] >> d & 1u)) {
         const std::size_t r = static_cast<std::size_t>(o) & rmask;
-        for (int a = 0; a < D; ++a) F[a] -= L.force(d, a)[r];
+        for (int a = 0; a < D; ++a) F[a] -= L.force(t, d, a)[r];
       }
     }
     const std::uint8_t mp = mk[p];
     const std::size_t r = static_cast<std::size_t>(p) & rmask;
     for (int d = 0; d < L.n; ++d)
       if (mp >> d & 1u) {
-        for (int a = 0; a < D; ++a) F[a] += L.force(d, a)[r];
-        if constexpr (kEnergy) eb += L.energy(d)[r];
+        for (int a = 0; a < D; ++a) F[a] += L.force(t, d, a)[r];
+        if constexpr (kEnergy) eb += L.energy(t, d)[r];
       }
   }
 
-  // With kSlots (one thread, no contacts, the model in lattice slots) the bond pass runs by
-  // direction (bond_block_slots) and each particle pulls its bonds' forces from the slots'
-  // ring in the order the other form pushes them: the bonds of its owners by ascending owner,
-  // then its own by ascending partner.
+  // With kSlots (no contacts, the model in lattice slots) the bond pass runs by direction
+  // (bond_block_slots) and each particle pulls its bonds' forces from its thread's ring in
+  // the order the other form pushes them: the bonds of its owners by ascending owner, then
+  // its own by ascending partner. The bonds crossing into a later thread's range come from
+  // its phase A: into that thread's ring there, into this one's (slots_cross_in) here.
   template <Damping DK, bool kEnergy, bool kSlots = false>
   void phase_b(ModelData<D>& m, int t, const StepCtx& c) const {
     const std::ptrdiff_t b = m.plan.begin[t], e = m.plan.begin[t + 1];
@@ -765,11 +808,12 @@ class Engine final : public LawEngine<D> {
         m.pending_far_sub(t, j, Fp);
       }
     };
-    // incoming cross contributions, ascending owner
-    for (const Incoming& in : m.plan.in[t]) {
-      const double* s = in.contact ? &m.cross_c[in.slot * (D + 1)] : &m.cross_b[in.slot * (D + 1)];
-      pend_sub(in.target, s);
-    }
+    // incoming cross contributions, ascending owner (in slots: phase A put them in the ring)
+    if constexpr (!kSlots)
+      for (const Incoming& in : m.plan.in[t]) {
+        const double* s = in.contact ? &m.cross_c[in.slot * (D + 1)] : &m.cross_b[in.slot * (D + 1)];
+        pend_sub(in.target, s);
+      }
     std::size_t cur_b = m.plan.base_b[t], cur_c = m.plan.base_c[t];
     std::size_t next_wait = 0;  // the next of the waits for cross pairs, and its block (-1: none)
     std::ptrdiff_t next_wait_blk = m.plan.waits[t].empty() ? -1 : m.plan.waits[t][0].blk;
@@ -786,9 +830,12 @@ class Engine final : public LawEngine<D> {
       double work = 0, work_ex = 0, diss = 0, ke = 0, eb = 0, vmax2 = 0, vfree2 = 0;
       if constexpr (kSlots) {
         if (m.uniform_diameter > 0)
-          bond_block_slots<kEnergy, kUniform>(m, t, c, blk * kBlock, pe);
+          bond_block_slots<kEnergy, kUniform>(m, t, c, blk * kBlock, pe, e);
         else
-          bond_block_slots<kEnergy, kRadiusSum>(m, t, c, blk * kBlock, pe);
+          bond_block_slots<kEnergy, kRadiusSum>(m, t, c, blk * kBlock, pe, e);
+        if (pe + static_cast<std::ptrdiff_t>(m.slots.off[m.slots.n - 1]) > e &&
+            e < static_cast<std::ptrdiff_t>(m.n())) [[unlikely]]
+          slots_cross_in(m, t, blk * kBlock, pe, e, cur_b);
       } else if (!m.bonds.r0.empty())
         bond_block<kEnergy, kPerBond>(m, t, c, blk * kBlock, pe, e);
       else if (m.uniform_diameter > 0)
@@ -819,7 +866,7 @@ class Engine final : public LawEngine<D> {
         // with a boundary condition, in particle order
         if (nwalls == 0) {
           alignas(64) double FX[D][kBlock], V2[kBlock], DP[kBlock];
-          pull_block(m.slots, p0, pe, FX);
+          pull_block(m.slots, t, p0, pe, FX);
           update_free_block<DK>(m, c, p0, pe, FX, V2, DP);
           for (std::ptrdiff_t p = p0; p < pe; ++p) {
             const std::size_t q = static_cast<std::size_t>(p - p0);
@@ -841,7 +888,7 @@ class Engine final : public LawEngine<D> {
       for (std::ptrdiff_t p = p0; p < (in_lanes ? p0 : pe); ++p) {
         double F[D];  // the forces of earlier particles' pairs and of the incoming cross pairs
         if constexpr (kSlots) {
-          pull_slots<kEnergy>(m.slots, p, F, eb);
+          pull_slots<kEnergy>(m.slots, t, p, F, eb);
         } else {
           for (int a = 0; a < D; ++a)
             F[a] = RG[a * ModelData<D>::kRingStride + (static_cast<std::uint32_t>(p) & kRingMask)];
@@ -950,20 +997,26 @@ class Engine final : public LawEngine<D> {
     ++m.plan.epoch;
     if constexpr (kSlotsBuilt) {
       if (in_slots) {
-        phase_b<DK, kEnergy, true>(m, 0, c);
+        run_plan<DK, kEnergy, true>(m, c, nt);
         return;
       }
     }
+    run_plan<DK, kEnergy, false>(m, c, nt);
+  }
+
+  /// Both phases on the plan's threads (one thread: no team is started).
+  template <Damping DK, bool kEnergy, bool kSlots>
+  void run_plan(ModelData<D>& m, const StepCtx& c, int nt) const {
     par::parallel_team(nt, [&](int t, int team) {
       if (team != nt) {  // fewer threads than planned: run the plan serially on thread 0
         if (t == 0) {
-          for (int s = 0; s < nt; ++s) phase_a<kEnergy>(m, s, c);
-          for (int s = 0; s < nt; ++s) phase_b<DK, kEnergy>(m, s, c);
+          for (int s = 0; s < nt; ++s) phase_a<kEnergy, kSlots>(m, s, c);
+          for (int s = 0; s < nt; ++s) phase_b<DK, kEnergy, kSlots>(m, s, c);
         }
         return;
       }
-      phase_a<kEnergy>(m, t, c);
-      phase_b<DK, kEnergy>(m, t, c);
+      phase_a<kEnergy, kSlots>(m, t, c);
+      phase_b<DK, kEnergy, kSlots>(m, t, c);
     });
   }
 
