@@ -378,9 +378,10 @@ std::size_t Model<D>::memory_bytes() const {
 
 template <int D>
 std::size_t Model<D>::streamed_bytes_per_step() const {
-  // per particle: positions and velocities read and written; inverse mass and radius read
-  // where they differ between particles; the flags byte and both pair lists' offsets read
-  // (the pending forces stay in cache: a ring of a few blocks and the front's slots)
+  // The bytes a step reads and writes in memory, as the model last stepped. Per particle: positions and
+  // velocities read and written; inverse mass and radius read where they differ between particles; the flags
+  // byte and both pair lists' offsets read (the pending forces stay in cache: a ring of a few blocks and the
+  // front's slots)
   const std::size_t particle = 2 * D * 2 * sizeof(double) + (im.uniform() ? 0 : sizeof(double)) +
                                (rad.uniform() ? 0 : sizeof(double)) + 1 + 2 * 4;
   // per pair: partner index read, state byte and shear history read and written (a bond's
@@ -390,6 +391,13 @@ std::size_t Model<D>::streamed_bytes_per_step() const {
   b += bonds.size() * (pair + (bond_us.empty() ? 0 : 2 * kNs * 4) + 1);  // and the bond pass's owner byte,
                                                                          // written and read in cache
   if (!bonds.r0.empty()) b += bonds.size() * 3 * sizeof(double);         // rest length, factors
+  if (slots.held) {
+    // stepping in lattice slots: per disk its positions and velocities, flags, first bond's
+    // index (the shear history's rounding) and byte of directions; per column of slots a
+    // state byte and shear history read and written, whether or not the disk has that bond
+    const std::size_t column = 2 + (bond_us.empty() ? 0 : 2 * kNs * 4);
+    b = n() * (2 * D * 2 * sizeof(double) + 1 + 4 + 1 + static_cast<std::size_t>(slots.cols) * column);
+  }
   return b;
 }
 

@@ -51,6 +51,13 @@ TEST(Lattice, StreamedBytesOfAStepCountParticlesAndBonds) {
   Simulation sim = uniaxial_specimen(Settings{.dt = 1e-8});
   sim.initialise();
   EXPECT_EQ(sim.streamed_bytes_per_step(), 1033u * 73u + 2970u * 15u + sim.contact_count() * 22u);
+  // Stepping in lattice slots (rows of 30 and 29 disks: three directions, three columns):
+  // per disk positions and velocities (64 B), flags, first bond's index and byte of
+  // directions (6 B), and per column a state byte and a 32-bit shear history, read and
+  // written (10 B), whether or not the disk owns that bond.
+  sim.run(1);
+  ASSERT_EQ(sim.steps_in_lattice_slots(), 1);
+  EXPECT_EQ(sim.streamed_bytes_per_step(), 1033u * (64u + 6u + 3u * 10u));
 }
 
 TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {

@@ -293,7 +293,9 @@ class Simulation {
   /// in cache: every particle array the step reads once, every one it changes read and written
   /// once, and per bond or contact its partner index, state byte and shear history (read and
   /// written). The scratch of a block's bonds and the partners' positions, which the lattice
-  /// order keeps within a few rows or layers, stay in cache and are not counted.
+  /// order keeps within a few rows or layers, stay in cache and are not counted. For a 2D
+  /// lattice that last stepped in lattice slots: per disk its arrays and per column of slots
+  /// a state byte and shear history, read and written (docs/dem.md, "Bonds in lattice slots").
   std::size_t streamed_bytes_per_step() const;
   /// FNV-1a hash of positions, velocities, bond states and shear displacements.
   std::uint64_t state_hash() const;

@@ -124,14 +124,14 @@ struct BondShear {
   /// NS per bond; let go (empty) while a model in lattice slots holds them there
   /// (ModelData::slots_let_go)
   std::vector<std::int32_t> q;
-  std::size_t count = 0;     ///< NS per bond of the model: q's size where it is held
+  std::size_t count = 0;     ///< NS × the model's bonds: q's size where it is held
   std::vector<double> wide;  ///< NS per wide bond (and stale entries of bonds held in 32 bits again)
   double unit = 0, inv = 0;  ///< powers of two; inv = 1/unit
   /// Whether an intact bond may be wide (one went beyond the reach at some time): until
   /// then only broken bonds are, and the bond pass finds them by their state alone.
   bool intact_wide = false;
-  /// A bond that became wide during a step (h: where its first component is held), with its
-  /// new components.
+  /// A bond that became wide during a step (h: where its first component is held, here or
+  /// in lattice slots; neither is resized during a step), with its new components.
   struct Fresh {
     std::int32_t* h;
     bool intact;
@@ -431,10 +431,10 @@ inline constexpr std::size_t kMaxSlotRing = 8192;
 /// element; and each particle pulls its bonds' forces from per-direction arrays, in the
 /// order the step loop otherwise pushes them (ascending owner, then its own bonds by
 /// ascending partner), so the two forms give the same bits. Set by Model::build_plan; the
-/// step kernel takes this form on one thread for a model of one material, bonds without
-/// per-bond rest lengths and no contacts at the time (docs/dem.md, "Bonds in lattice slots"),
-/// on any number of threads: each has a ring of its own, and the bonds that cross into a
-/// later thread's range are computed by that thread (phase A) and copied into both rings.
+/// step kernel takes this form for a model of one material, bonds without per-bond rest
+/// lengths and no contacts at the time, on any number of threads: each has a ring of its
+/// own, and the bonds that cross into a later thread's range are computed by that thread
+/// (phase A) and copied into both rings (docs/dem.md, "Bonds in lattice slots").
 struct LatticeSlots {
   /// Directions: three for a hexagonal lattice of rows of L and L - 1 disks (partners p + 1,
   /// p + L - 1, p + L), four for one of rows of L disks each (an owner in an even row bonds
