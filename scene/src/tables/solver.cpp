@@ -89,8 +89,8 @@ TableSpec solver_spec() {
           K("lattice_slots", Bool)
               .def("true")
               .doc("A 2D lattice numbered row by row (a hexagonal region) steps its bonds direction by "
-                   "direction on one thread, faster; false takes the general bond pass. Results do not "
-                   "depend on it."),
+                   "direction while it has no contacts, faster, on any number of threads; false takes the "
+                   "general bond pass. Results do not depend on it."),
           K("fem_integrator", Choice)
               .choices({"auto", "central-difference", "explicit-newmark", "implicit-newmark"})
               .def(R"("auto")")

@@ -67,8 +67,8 @@ struct Settings {
   /// fewer threads; results do not depend on it). Tests lower it to exercise threading.
   int min_particles_per_thread = 4096;
   /// A model whose bonds sit in lattice slots (a lattice numbered row by row) steps its bonds
-  /// direction by direction on one thread; false takes the general bond pass. Results do
-  /// not depend on it (tests compare the two).
+  /// direction by direction while it has no contacts, on any number of threads; false takes
+  /// the general bond pass. Results do not depend on it (tests compare the two).
   bool lattice_slots = true;
 };
 

@@ -264,7 +264,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       for (int a = 0; a < kNs; ++a)
         QN[a][i] = BondShear<kNs>::steps_of(in32 != 0 ? NU[a][i] * inv : 0.0, bits, a);
     }
-    // (in slots every partner is in range: one thread)
+    // (in slots the pass takes only the entries whose partner is in range)
     std::int64_t fast = (kInSlots || J[i] < ee64) & done & held;
     if constexpr (kInSlots) {  // an entry without a bond is neither fast nor slow: nothing is kept
       fast &= HAS[i];
