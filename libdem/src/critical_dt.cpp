@@ -104,7 +104,6 @@ void Model<D>::pair_matrix(std::size_t p, std::uint32_t j, const PairStiffness& 
 // Largest stiffness of the model's pair laws.
 template <int D>
 double Model<D>::max_stiffness() const {
-  bonds_current();
   double kmax = 0;
   for (const PairStiffness& s : stiff) kmax = std::max(kmax, std::max(s.kn, s.ks));
   return kmax;

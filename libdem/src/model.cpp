@@ -1,7 +1,6 @@
 // The DEM model's storage: structure-of-arrays particles, ids and groups, the spatial order
-// that keeps bond endpoints close in memory (Morton; row by row for a 2D lattice whose bonds
-// then sit in lattice slots), and read access for writers.
-// Physics and design notes: docs/dem.md.
+// that keeps bond endpoints close in memory (Morton; row by row, and layer by layer, for a lattice whose
+// bonds then sit in lattice slots), and read access for writers. Physics and design notes: docs/dem.md.
 #include "model.hpp"
 
 #include <strata/core/error.hpp>
@@ -180,28 +179,32 @@ void Model<D>::sort_particles(bool rows_allowed) {
   reorder(perm);
 }
 
-// Whether a 2D model's particles were added row by row: ascending y, then ascending x (a
-// lattice region's generator adds them so). Such a model keeps that order through bonding,
-// and afterwards if every bond then sits in lattice slots (keep_rows_if_lattice).
+// Whether a model's particles were added row by row (and in 3D layer by layer): ascending in
+// the last axis, then the one before, then x (a lattice region's generator adds them so).
+// Such a model keeps that order through bonding, and afterwards if every bond then sits in
+// lattice slots (keep_rows_if_lattice).
 template <int D>
 bool Model<D>::added_in_rows() const {
-  if constexpr (D == 2) {
-    for (std::size_t i = 1; i < n(); ++i)
-      if (!(x[1][i] > x[1][i - 1] || (x[1][i] == x[1][i - 1] && x[0][i] > x[0][i - 1]))) return false;
-    return n() > 1;
-  }
-  return false;
+  auto before = [&](std::size_t a, std::size_t b) {
+    for (int ax = D - 1; ax >= 0; --ax)
+      if (x[ax][a] != x[ax][b]) return x[ax][a] < x[ax][b];
+    return false;
+  };
+  for (std::size_t i = 1; i < n(); ++i)
+    if (!before(i - 1, i)) return false;
+  return n() > 1;
 }
 
-// After bonding a model kept in the order it was added row by row: that order stays where it
-// puts every bond in lattice slots (a 2D lattice whose bond pass can then run direction by
-// direction, LatticeSlots), else the Morton order replaces it (and the contact candidates
-// found with the bonds are dropped: initialise() searches again).
+// After bonding a model kept in the order it was added row by row (and layer by layer): that
+// order stays where it puts every bond in lattice slots (a lattice whose bond pass can then
+// run direction by direction, LatticeSlots), else the Morton order replaces it (and the
+// contact candidates found with the bonds are dropped: initialise() searches again).
 template <int D>
 void Model<D>::keep_rows_if_lattice() {
   if (!rows_kept) return;
   rows_kept = false;
-  if (bonds.r0.empty() && lattice_slots(bonds, n(), D).n > 0) return;
+  std::vector<std::uint32_t> offs;
+  if (bonds.r0.empty() && slot_offsets(bonds, n(), offs)) return;
   sort_particles();
   found_contacts = PairList{};
 }
@@ -378,7 +381,16 @@ std::size_t Model<D>::memory_bytes() const {
 
 template <int D>
 std::size_t Model<D>::streamed_bytes_per_step() const {
-  // The bytes a step reads and writes in memory, as the model last stepped. Per particle: positions and
+  // The bytes a step reads and writes in memory, as the model last stepped.
+  if (slots.held) {
+    // stepping in lattice slots: per particle its positions and velocities, flags, first
+    // bond's index (the shear history's rounding) and byte of directions; per column of
+    // slots a state byte and shear history read and written, whether or not the particle
+    // has that bond
+    const std::size_t column = 2 + (bond_us.empty() ? 0 : 2 * kNs * 4);
+    return n() * (2 * D * 2 * sizeof(double) + 1 + 4 + 1 + static_cast<std::size_t>(slots.cols) * column);
+  }
+  // Per particle: positions and
   // velocities read and written; inverse mass and radius read where they differ between particles; the flags
   // byte and both pair lists' offsets read (the pending forces stay in cache: a ring of a few blocks and the
   // front's slots)
@@ -391,13 +403,6 @@ std::size_t Model<D>::streamed_bytes_per_step() const {
   b += bonds.size() * (pair + (bond_us.empty() ? 0 : 2 * kNs * 4) + 1);  // and the bond pass's owner byte,
                                                                          // written and read in cache
   if (!bonds.r0.empty()) b += bonds.size() * 3 * sizeof(double);         // rest length, factors
-  if (slots.held) {
-    // stepping in lattice slots: per disk its positions and velocities, flags, first bond's
-    // index (the shear history's rounding) and byte of directions; per column of slots a
-    // state byte and shear history read and written, whether or not the disk has that bond
-    const std::size_t column = 2 + (bond_us.empty() ? 0 : 2 * kNs * 4);
-    b = n() * (2 * D * 2 * sizeof(double) + 1 + 4 + 1 + static_cast<std::size_t>(slots.cols) * column);
-  }
   return b;
 }
 

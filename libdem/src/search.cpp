@@ -238,6 +238,7 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
 
 template <int D>
 bool Model<D>::bonded(std::size_t p, std::uint32_t q) const {
+  if (bonds.j.size() != bonds.size()) return slots.bonds_to(p, q);  // stepping in slots: partners let go
   for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
     if (bonds.j[k] == q) return true;
   return false;
@@ -345,21 +346,24 @@ std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
   return begin;
 }
 
-LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int threads) {
-  LatticeSlots s;
-  if (bonds.size() == 0) return s;
-  // the distinct offsets of partners from owners, ascending
-  std::vector<std::uint32_t> offs;
+bool slot_offsets(const PairList& bonds, std::size_t n, std::vector<std::uint32_t>& offs) {
+  offs.clear();
+  if (bonds.size() == 0) return false;
   for (std::size_t p = 0; p < n; ++p)
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
       const std::uint32_t o = bonds.j[k] - static_cast<std::uint32_t>(p);
       if (std::find(offs.begin(), offs.end(), o) != offs.end()) continue;
-      if (offs.size() == LatticeSlots::kMax) return s;  // too many directions
+      if (offs.size() == LatticeSlots::kMax) return false;  // too many directions
       offs.push_back(o);
     }
   std::sort(offs.begin(), offs.end());
-  const std::size_t ring = std::bit_ceil(std::size_t{offs.back()} + kBlock);
-  if (ring > kMaxSlotRing) return s;  // rows too long for the ring
+  return std::bit_ceil(std::size_t{offs.back()} + kBlock) <= kMaxSlotRing;  // else rows too long for a ring
+}
+
+LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int threads) {
+  LatticeSlots s;
+  std::vector<std::uint32_t> offs;  // the distinct offsets of partners from owners, ascending
+  if (!slot_offsets(bonds, n, offs)) return s;
   s.mask.assign(n, 0);
   for (std::size_t p = 0; p < n; ++p)
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
@@ -386,11 +390,15 @@ LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int t
     s.col[d] = c;
     s.cols = std::max(s.cols, c + 1);
   }
-  s.ring = ring;
+  for (int d = 0; d < s.n; ++d) {
+    s.ring[d] = std::bit_ceil(std::size_t{s.off[d]} + kBlock);
+    s.at[d] = s.per;
+    s.per += s.ring[d];
+  }
   s.axes = axes;
   s.threads = threads;
-  s.f.assign(static_cast<std::size_t>(threads) * s.n * axes * ring, 0.0);
-  s.en.assign(static_cast<std::size_t>(threads) * s.n * ring, 0.0);
+  s.f.assign(static_cast<std::size_t>(threads) * s.per * axes, 0.0);
+  s.en.assign(static_cast<std::size_t>(threads) * s.per, 0.0);
   return s;
 }
 
@@ -460,7 +468,7 @@ void Model<D>::build_plan(int nt) {
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
   slots = LatticeSlots{};
-  if (D == 2 && bonds.r0.empty()) slots = lattice_slots(bonds, N, D, nt);
+  if (bonds.r0.empty()) slots = lattice_slots(bonds, N, D, nt);
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
     bond_owner.resize(bonds.size());

@@ -68,11 +68,15 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
   // bond its partner, state byte and shear history (one 32-bit component in 2D, 3 in 3D,
   // while no bond is broken; none with normal springs only, ks = 0, whose shear force is zero
   // whatever the history); the bond pass finds each bond's owner from the offsets, or, with
-  // normal springs only, from an owner byte per bond. The 2D lattice, numbered row by row
-  // (rows of 100 disks), holds its bonds in lattice slots: a byte per disk saying which of
-  // the three directions it owns, and a ring of 512 entries of each direction's forces and
-  // energies (3 × (2 + 1) doubles each); their state is copied in when a step takes them,
-  // and the bonds' own arrays of it are let go while the model steps.
+  // normal springs only, from an owner byte per bond. Both lattices, numbered row by row
+  // (and layer by layer), hold their bonds in lattice slots: a byte per particle saying
+  // which directions it owns, and a ring of each direction's forces and energies (D + 1
+  // doubles each, entries: the next power of two at or above the direction's offset plus a
+  // block): 2D rows of 100 disks, 3 directions of 512 entries; 3D layers of 429 spheres, 8
+  // directions, partners p + 1, p + 19 and p + 20 (512 entries) and five a layer ahead
+  // (1024). Their state is copied in when a step takes them, into 3 columns in 2D and 6 in
+  // 3D (directions no particle owns two of share one), and the bonds' own arrays of it and
+  // of their partners (which the masks and offsets say) are let go while the model steps.
   for (const int dim : {2, 3})
     for (const bool central : {false, true}) {  // central: ks = 0, and no shear history is kept
       Settings s;
@@ -92,23 +96,24 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
       const double nb = static_cast<double>(sim.bond_count());
       const double ns = central ? 0 : dim == 2 ? 1 : 3;
       const double arrays = n * (3 * dim * 8 + 8 + 2 + 8) + nb * (4 + 1 + 4 * ns + (central ? 1 : 0));
-      const double ring = dim * 32 * 256 * 8.0 + (dim == 2 ? n + 3 * 3 * 512 * 8.0 : 0.0);
+      // ring entries: 3 directions of 512 in 2D; 3 of 512 and 5 of 1024 in 3D
+      const double entries = dim == 2 ? 3 * 512 : 3 * 512 + 5 * 1024, cols = dim == 2 ? 3 : 6;
+      const double ring = dim * 32 * 256 * 8.0 + n + (dim + 1) * entries * 8.0;
       const double got = static_cast<double>(sim.memory_bytes());
       EXPECT_GE(got, arrays + ring) << dim << "D";
       // the rest: per-block accumulators (64 B per 256 particles) and the block slot map
       // (the front's slots are taken while stepping)
       EXPECT_LE(got, arrays + ring + 4 * n)
           << dim << "D: " << (got - arrays - ring) / n << " B per particle more";
-      if (dim == 2) {
-        // stepping in slots: the bonds' state byte and shear history move into three columns
-        // of slots (one per direction) and the bonds' own arrays of them are let go
-        sim.run(1);
-        ASSERT_EQ(sim.steps_in_lattice_slots(), 1);
-        const double moved = (1 + 4 * ns);
-        EXPECT_EQ(static_cast<double>(sim.memory_bytes()), got - nb * moved + 3 * n * moved);
-        EXPECT_EQ(sim.broken_bonds().size(), 0u);  // a reader: the arrays are held again
-        EXPECT_EQ(static_cast<double>(sim.memory_bytes()), got + 3 * n * moved);
-      }
+      // stepping in slots: the bonds' state byte and shear history move into the columns
+      // of slots, and the bonds' own arrays of them and of their partners are let go
+      sim.run(1);
+      ASSERT_EQ(sim.steps_in_lattice_slots(), 1);
+      const double moved = (1 + 4 * ns);
+      EXPECT_EQ(static_cast<double>(sim.memory_bytes()), got - nb * (4 + moved) + cols * n * moved)
+          << dim << "D";
+      EXPECT_EQ(sim.broken_bonds().size(), 0u);  // a reader: the arrays are held again
+      EXPECT_EQ(static_cast<double>(sim.memory_bytes()), got + cols * n * moved) << dim << "D";
     }
 }
 

@@ -88,9 +88,10 @@ TableSpec solver_spec() {
                    "shares the cores). Results do not depend on it."),
           K("lattice_slots", Bool)
               .def("true")
-              .doc("A 2D lattice numbered row by row (a hexagonal region) steps its bonds direction by "
-                   "direction while it has no contacts, faster, on any number of threads; false takes the "
-                   "general bond pass. Results do not depend on it."),
+              .doc("A lattice numbered row by row (a hexagonal region, or a close-packed one layer by layer) "
+                   "steps its bonds direction by direction while it has no contacts, faster and in less "
+                   "memory, on any number of threads; false takes the general bond pass. Results do not "
+                   "depend on it."),
           K("fem_integrator", Choice)
               .choices({"auto", "central-difference", "explicit-newmark", "implicit-newmark"})
               .def(R"("auto")")

@@ -252,8 +252,8 @@ class Simulation {
   std::size_t bond_count() const;
   /// Broken bonds and contacts currently touching.
   std::size_t contact_count() const;
-  /// Steps taken with the bonds in lattice slots (Settings::lattice_slots: a 2D lattice
-  /// numbered row by row, stepped on one thread while it has no contacts).
+  /// Steps taken with the bonds in lattice slots (Settings::lattice_slots: a lattice
+  /// numbered row by row, and in 3D layer by layer, while it has no contacts).
   std::int64_t steps_in_lattice_slots() const;
   /// All bond breaks so far, ordered by (step, particle ids).
   const std::vector<BreakEvent>& breaks() const;

@@ -259,6 +259,8 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       if constexpr (kInSlots) {  // LatticeSlots::bond, counted without popcount (vector lanes)
         const std::uint32_t lower = sp.smask[qa + i] & ((1u << sp.dir) - 1u);
         bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
+        if constexpr (D == 3)
+          bond += (lower >> 3 & 1u) + (lower >> 4 & 1u) + (lower >> 5 & 1u) + (lower >> 6 & 1u);
       }
       const std::uint32_t bits = BondShear<kNs>::dither_bits(bond, salt);
       for (int a = 0; a < kNs; ++a)

@@ -91,7 +91,8 @@ struct PairList {
   // initial centre distance), stiffness factor and strength factor of each bond; all apply
   // while the bond is intact.
   std::vector<double> r0, kf, sf;
-  std::size_t size() const { return j.size(); }
+  /// The pairs (also while a model stepping in lattice slots has let its bonds' partners go).
+  std::size_t size() const { return off.back(); }
   std::size_t bytes() const {
     return off.capacity() * 4 + j.capacity() * 4 + st.capacity() +
            (us.capacity() + r0.capacity() + kf.capacity() + sf.capacity()) * 8;
@@ -420,8 +421,9 @@ struct Scratch {
   }
 };
 
-/// The most ring entries the slots' forces take (the longest rows they serve: 7936).
-inline constexpr std::size_t kMaxSlotRing = 8192;
+/// The most ring entries a direction of the slots takes (the longest offset it serves:
+/// 32512, rows of that many disks or layers of that many spheres).
+inline constexpr std::size_t kMaxSlotRing = 32768;
 
 /// Bonds in lattice slots: a model whose particles are numbered so that every bond's
 /// partner lies at one of a few fixed offsets from its owner (a hexagonal lattice numbered
@@ -439,16 +441,20 @@ struct LatticeSlots {
   /// Directions: three for a hexagonal lattice of rows of L and L - 1 disks (partners p + 1,
   /// p + L - 1, p + L), four for one of rows of L disks each (an owner in an even row bonds
   /// to p + 1, p + L - 1 and p + L, one in an odd row to p + 1, p + L and p + L + 1).
-  static constexpr int kMax = 4;
+  static constexpr int kMax = 8;
   int n = 0;                  // directions; 0: the model is not held in slots
   std::uint32_t off[kMax]{};  // each direction's partner offset, ascending
   /// Per particle, bit d: it owns a bond in direction d (its partner is p + off[d]). That
   /// bond's index is bonds.off[p] + the number of p's bonds in earlier directions.
   std::vector<std::uint8_t> mask;
   /// Forces (D per direction) and energies of the bonds a block's owners hold, per thread
-  /// and direction, in a ring over the particles: ring entries, a power of two, at least
-  /// off[n - 1] + kBlock, so an owner's entry lives until its partners have pulled it.
-  std::size_t ring = 0;
+  /// and direction, in a ring over the particles: direction d's has ring[d] entries, a
+  /// power of two, at least off[d] + kBlock, so an owner's entry lives until its partner
+  /// has pulled it (in 3D the directions within a layer need a few hundred entries, those
+  /// into the next layer a layer's worth).
+  std::size_t ring[kMax]{};
+  std::size_t at[kMax]{};  // the entries of directions before d: sum of ring[0..d)
+  std::size_t per = 0;     // the entries of all directions: one thread's
   int threads = 1;
   std::vector<double> f, en;  // f: [thread][direction][axis][ring entry], en: [thread][direction][ring entry]
   /// The bonds' state and shear history (BondShear's 32-bit steps or wide code, ns each)
@@ -473,23 +479,35 @@ struct LatticeSlots {
   std::size_t entry(int d, std::size_t p, std::size_t n) const {
     return static_cast<std::size_t>(col[d]) * n + p;
   }
-  /// The direction of a bond from owner p to partner j.
-  int direction(std::uint32_t p, std::uint32_t j) const {
+  /// The direction of bond k, owned by a particle with mask m whose first bond is `first`.
+  int direction(std::uint32_t first, std::uint8_t m, std::uint32_t k) const {
     int d = 0;
-    while (off[d] != j - p) ++d;
-    return d;
+    for (std::uint32_t b = first;; ++d)
+      if (m >> d & 1u && b++ == k) return d;
+  }
+  /// Whether owner p holds a bond to partner q > p.
+  bool bonds_to(std::size_t p, std::size_t q) const {
+    for (int d = 0; d < n; ++d)
+      if (off[d] == q - p) return mask[p] >> d & 1u;
+    return false;
   }
   int axes = 0;  // D
   double* force(int t, int d, int a) {
-    return f.data() + ((static_cast<std::size_t>(t) * n + d) * axes + a) * ring;
+    return f.data() + (static_cast<std::size_t>(t) * per + at[d]) * axes +
+           static_cast<std::size_t>(a) * ring[d];
   }
-  double* energy(int t, int d) { return en.data() + (static_cast<std::size_t>(t) * n + d) * ring; }
+  double* energy(int t, int d) { return en.data() + static_cast<std::size_t>(t) * per + at[d]; }
+  /// Direction d's ring entry of owner p.
+  std::size_t slot(int d, std::size_t p) const { return p & (ring[d] - 1); }
 };
 
 /// The slots of `bonds` over n particles of dimension axes, with rings for `threads` threads
 /// (LatticeSlots::n = 0 where they do not fit: more than LatticeSlots::kMax offsets, or one
 /// beyond the ring).
 LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int threads = 1);
+/// The distinct offsets of `bonds`' partners from their owners, ascending, into offs;
+/// whether they fit lattice slots (lattice_slots would hold them).
+bool slot_offsets(const PairList& bonds, std::size_t n, std::vector<std::uint32_t>& offs);
 
 /// What one step needs besides the arrays.
 struct StepCtx {
@@ -616,6 +634,7 @@ struct ModelData {
   }
   void slot_give(std::uint32_t k, std::size_t p, int d) {
     const std::size_t s = slots.entry(d, p, n());
+    bonds.j[k] = static_cast<std::uint32_t>(p + slots.off[d]);
     bonds.st[k] = slots.st[s];
     if (!bond_us.empty())
       for (int a = 0; a < kNs; ++a) bond_us.q[std::size_t{k} * kNs + a] = slots.uq[s * kNs + a];
@@ -637,18 +656,21 @@ struct ModelData {
     if (!slots.ahead) return;
     auto& self = const_cast<ModelData&>(*this);
     if (bonds.st.size() != bonds.size()) {  // let go while stepping: held again
+      self.bonds.j.resize(bonds.size());
       self.bonds.st.resize(bonds.size());
       self.bond_us.q.resize(bond_us.count);
     }
     self.for_each_slot([&](std::uint32_t k, std::size_t p, int d) { self.slot_give(k, p, d); });
     self.slots.ahead = false;
   }
-  /// While a model steps in slots, the bonds' own arrays of their state (PairList::st,
-  /// BondShear::q: 5 B per bond in 2D) are let go, and bonds_current() allocates them again
-  /// when something reads them between steps, until the next step.
+  /// While a model steps in slots, the bonds' partners and their state (PairList::j and st,
+  /// BondShear::q: 9 B per bond in 2D, 17 in 3D) are let go: the slots' masks and offsets
+  /// say the partners. bonds_current() allocates them again when something reads them
+  /// between steps, until the next step.
   void slots_let_go() {
     if (bonds.st.empty()) return;
-    std::vector<std::uint8_t>().swap(bonds.st);  // their memory goes (clear() would keep it)
+    std::vector<std::uint32_t>().swap(bonds.j);  // their memory goes (clear() would keep it)
+    std::vector<std::uint8_t>().swap(bonds.st);
     std::vector<std::int32_t>().swap(bond_us.q);
     slots.ahead = true;
   }

@@ -41,8 +41,8 @@ class Engine final : public LawEngine<D> {
  public:
   static constexpr int kNs = kNsOf<D>;
   using Damping = Settings::Damping;
-  /// The lattice-slot form is compiled for 2D laws with a batch form (LatticeSlots).
-  static constexpr bool kSlotsBuilt = D == 2 && HasLane<Law, kNs>;
+  /// The lattice-slot form is compiled for laws with a batch form (LatticeSlots).
+  static constexpr bool kSlotsBuilt = HasLane<Law, kNs>;
 
   const char* name() const override { return Law::kName; }
 
@@ -71,7 +71,7 @@ class Engine final : public LawEngine<D> {
     if (in_slots) ++m.slots_steps;
   }
 
-  /// Whether this step runs in lattice slots: a 2D law with a batch form, one material, the
+  /// Whether this step runs in lattice slots: a law with a batch form, one material, the
   /// model held in slots (for the plan's threads) and no contacts now (their forces would
   /// come between the bonds' in each particle's sum).
   bool slots_apply(const ModelData<D>& m, const StepCtx& c) const {
@@ -307,11 +307,13 @@ class Engine final : public LawEngine<D> {
       int broke = 0;
       double e;
       if constexpr (kSlots) {
-        LatticeSlots& L = m.slots;
-        const std::uint32_t j = m.bonds.j[k];
-        const int d = L.direction(p, j);
+        LatticeSlots& L = m.slots;  // the bonds' partners are let go: the slots say them
+        const int d = L.direction(m.bonds.off[p], L.mask[p], k);
+        const std::uint32_t j = p + L.off[d];
         e = slot_bond_force<kEnergy>(m, t, c, X, V, p, k, j, d, F, broke);
-        const std::size_t r = p & (L.ring - 1);
+        if (broke) [[unlikely]]
+          record(m, t, c.step, p, j, broke);
+        const std::size_t r = L.slot(d, p);
         for (int a = 0; a < D; ++a) L.force(t, d, a)[r] = F[a];
         L.energy(t, d)[r] = e;
       } else if (!x.contact) {
@@ -322,7 +324,7 @@ class Engine final : public LawEngine<D> {
         e = pair_force<kEnergy>(X, V, m.rest_of(L, k, p, j), p, j, L.st[k], ModelData<D>::us_of(L, k, none),
                                 law_for(m, L, k, p, j), c.dt, F, broke);
       }
-      if (broke) [[unlikely]]
+      if (!kSlots && broke) [[unlikely]]
         record(m, t, c.step, p, x.contact ? m.contacts.j[k] : m.bonds.j[k], broke);
       double* out = &(x.contact ? m.cross_c : m.cross_b)[std::size_t{x.slot} * (D + 1)];
       for (int a = 0; a < D; ++a) out[a] = F[a];
@@ -494,12 +496,12 @@ class Engine final : public LawEngine<D> {
     const bool keep_us = !m.bond_us.empty();
     std::uint8_t* __restrict sslow = S.slow.data();  // one direction's verdicts at a time
     static double no_wide[kNs] = {};
-    const std::size_t rmask = L.ring - 1, r0 = static_cast<std::size_t>(p0) & rmask;
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(m.n());
     for (int d = 0; d < L.n; ++d) {
       const std::ptrdiff_t pb =
           std::min<std::ptrdiff_t>(pe, e - L.off[d]);  // owners whose partner is in range
       if (pb <= p0) continue;
+      const std::size_t r0 = L.slot(d, static_cast<std::size_t>(p0));
       const std::size_t len = static_cast<std::size_t>(pb - p0);
       const std::size_t s0 = L.entry(d, static_cast<std::size_t>(p0), m.n());
       BondSpan sp{m.x[0].data(),
@@ -560,7 +562,7 @@ class Engine final : public LawEngine<D> {
       int broke = 0;
       const std::uint32_t j = p + L.off[d];
       const double e = slot_bond_force<kEnergy>(m, t, c, X, V, p, k, j, static_cast<int>(d), F, broke);
-      const std::size_t r = p & rmask;
+      const std::size_t r = L.slot(static_cast<int>(d), p);
       for (int a = 0; a < D; ++a) L.force(t, static_cast<int>(d), a)[r] = F[a];
       L.energy(t, static_cast<int>(d))[r] = e;
       if (broke) [[unlikely]]
@@ -640,12 +642,11 @@ class Engine final : public LawEngine<D> {
   [[gnu::noinline]] static void slots_cross_in(ModelData<D>& m, int t, std::ptrdiff_t p0, std::ptrdiff_t pe,
                                                std::ptrdiff_t e, std::size_t& cur) {
     LatticeSlots& L = m.slots;
-    const std::size_t rmask = L.ring - 1;
     for (std::ptrdiff_t p = std::max<std::ptrdiff_t>(p0, e - L.off[L.n - 1]); p < pe; ++p)
       for (int d = 0; d < L.n; ++d)
         if ((L.mask[p] >> d & 1u) && p + static_cast<std::ptrdiff_t>(L.off[d]) >= e) {
           const double* s = &m.cross_b[cur++ * (D + 1)];
-          const std::size_t r = static_cast<std::size_t>(p) & rmask;
+          const std::size_t r = L.slot(d, static_cast<std::size_t>(p));
           for (int a = 0; a < D; ++a) L.force(t, d, a)[r] = s[a];
           L.energy(t, d)[r] = s[D];
         }
@@ -656,14 +657,15 @@ class Engine final : public LawEngine<D> {
   /// direction: ascending owner), then plus their own (ascending partner), each where the
   /// bond exists. Every particle's sum takes the terms in pull_slots' order.
   static void pull_block(LatticeSlots& L, int t, std::ptrdiff_t p0, std::ptrdiff_t pe, double (*F)[kBlock]) {
-    const std::size_t nb = static_cast<std::size_t>(pe - p0), rmask = L.ring - 1;
+    const std::size_t nb = static_cast<std::size_t>(pe - p0);
     const std::uint8_t* __restrict mk = L.mask.data();
     for (int a = 0; a < D; ++a) std::fill_n(F[a], nb, 0.0);
     // entries q in [qa, qb) whose ring entries are R + q (no wrap), mask bytes M + q
     auto apply = [&](int d, std::size_t qa, std::size_t qb, std::ptrdiff_t shift, bool own) {
       const std::uint8_t* __restrict M = mk + p0 - shift;
       for (int a = 0; a < D; ++a) {
-        const std::size_t r = static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)) & rmask;
+        const std::size_t r =
+            L.slot(d, static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)));
         const double* __restrict R = L.force(t, d, a) + r - qa;
         double* __restrict Fa = F[a];
         const unsigned sh = static_cast<unsigned>(d);
@@ -680,8 +682,9 @@ class Engine final : public LawEngine<D> {
       // owners p - shift >= 0; their ring entries wrap at most once over a block
       std::size_t qa = static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, shift - p0));
       while (qa < nb) {
-        const std::size_t r = static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)) & rmask;
-        const std::size_t qb = std::min(nb, qa + (L.ring - r));
+        const std::size_t r =
+            L.slot(d, static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)));
+        const std::size_t qb = std::min(nb, qa + (L.ring[d] - r));
         apply(d, qa, qb, shift, own);
         qa = qb;
       }
@@ -743,19 +746,18 @@ class Engine final : public LawEngine<D> {
   template <bool kEnergy>
   static inline void pull_slots(LatticeSlots& L, int t, std::ptrdiff_t p, double* F, double& eb) {
     const std::uint8_t* mk = L.mask.data();
-    const std::size_t rmask = L.ring - 1;
     for (int a = 0; a < D; ++a) F[a] = 0.0;
     for (int d = L.n - 1; d >= 0; --d) {
       const std::ptrdiff_t o = p - static_cast<std::ptrdiff_t>(L.off[d]);
       if (o >= 0 && (mk[o] >> d & 1u)) {
-        const std::size_t r = static_cast<std::size_t>(o) & rmask;
+        const std::size_t r = L.slot(d, static_cast<std::size_t>(o));
         for (int a = 0; a < D; ++a) F[a] -= L.force(t, d, a)[r];
       }
     }
     const std::uint8_t mp = mk[p];
-    const std::size_t r = static_cast<std::size_t>(p) & rmask;
     for (int d = 0; d < L.n; ++d)
       if (mp >> d & 1u) {
+        const std::size_t r = L.slot(d, static_cast<std::size_t>(p));
         for (int a = 0; a < D; ++a) F[a] += L.force(t, d, a)[r];
         if constexpr (kEnergy) eb += L.energy(t, d)[r];
       }
