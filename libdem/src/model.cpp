@@ -204,7 +204,7 @@ void Model<D>::keep_rows_if_lattice() {
   if (!rows_kept) return;
   rows_kept = false;
   std::vector<std::uint32_t> offs;
-  if (bonds.r0.empty() && slot_offsets(bonds, n(), offs)) return;
+  if (bonds.r0.empty() && slot_offsets<D>(bonds, n(), offs)) return;
   sort_particles();
   found_contacts = PairList{};
 }
@@ -374,7 +374,7 @@ std::size_t Model<D>::memory_bytes() const {
   for (const PendingPool& P : pend)
     b += (P.ring.capacity() + P.buf.capacity()) * sizeof(double) + P.spare.capacity() * 4;
   b += events.capacity() * sizeof(BreakEvent);
-  b += slots.mask.capacity() + slots.st.capacity() + slots.uq.capacity() * 4 +
+  b += slots.mask.capacity() * sizeof(slots.mask[0]) + slots.st.capacity() + slots.uq.capacity() * 4 +
        (slots.f.capacity() + slots.en.capacity()) * sizeof(double);
   return b;
 }

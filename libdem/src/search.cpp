@@ -346,6 +346,7 @@ std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
   return begin;
 }
 
+template <int D>
 bool slot_offsets(const PairList& bonds, std::size_t n, std::vector<std::uint32_t>& offs) {
   offs.clear();
   if (bonds.size() == 0) return false;
@@ -353,36 +354,38 @@ bool slot_offsets(const PairList& bonds, std::size_t n, std::vector<std::uint32_
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
       const std::uint32_t o = bonds.j[k] - static_cast<std::uint32_t>(p);
       if (std::find(offs.begin(), offs.end(), o) != offs.end()) continue;
-      if (offs.size() == LatticeSlots::kMax) return false;  // too many directions
+      if (offs.size() == LatticeSlots<D>::kMax) return false;  // too many directions
       offs.push_back(o);
     }
   std::sort(offs.begin(), offs.end());
   return std::bit_ceil(std::size_t{offs.back()} + kBlock) <= kMaxSlotRing;  // else rows too long for a ring
 }
 
-LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int threads) {
-  LatticeSlots s;
+template <int D>
+LatticeSlots<D> lattice_slots(const PairList& bonds, std::size_t n, int threads) {
+  using Slots = LatticeSlots<D>;
+  Slots s;
   std::vector<std::uint32_t> offs;  // the distinct offsets of partners from owners, ascending
-  if (!slot_offsets(bonds, n, offs)) return s;
+  if (!slot_offsets<D>(bonds, n, offs)) return s;
   s.mask.assign(n, 0);
   for (std::size_t p = 0; p < n; ++p)
     for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k) {
       const auto d =
           std::find(offs.begin(), offs.end(), bonds.j[k] - static_cast<std::uint32_t>(p)) - offs.begin();
-      s.mask[p] |= static_cast<std::uint8_t>(1u << d);
+      s.mask[p] |= static_cast<typename Slots::Mask>(1u << d);
     }
   s.n = static_cast<int>(offs.size());
   std::copy(offs.begin(), offs.end(), s.off);
   // columns of the bonds' state: each direction joins the first column none of whose
   // directions a particle owns together with it
-  bool seen[1u << LatticeSlots::kMax] = {};
-  for (const std::uint8_t m : s.mask) seen[m] = true;
-  unsigned members[LatticeSlots::kMax] = {};  // each column's directions, bit d
+  std::vector<char> seen(1u << Slots::kMax, 0);
+  for (const auto m : s.mask) seen[m] = 1;
+  unsigned members[Slots::kMax] = {};  // each column's directions, bit d
   for (int d = 0; d < s.n; ++d) {
     int c = 0;
     for (;; ++c) {
       bool apart = true;
-      for (unsigned m = 0; m < (1u << LatticeSlots::kMax); ++m)
+      for (unsigned m = 0; m < (1u << Slots::kMax); ++m)
         apart = apart && !(seen[m] && (m >> d & 1u) && (m & members[c]));
       if (apart) break;
     }
@@ -395,9 +398,8 @@ LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int t
     s.at[d] = s.per;
     s.per += s.ring[d];
   }
-  s.axes = axes;
   s.threads = threads;
-  s.f.assign(static_cast<std::size_t>(threads) * s.per * axes, 0.0);
+  s.f.assign(static_cast<std::size_t>(threads) * s.per * D, 0.0);
   s.en.assign(static_cast<std::size_t>(threads) * s.per, 0.0);
   return s;
 }
@@ -467,8 +469,8 @@ void Model<D>::build_plan(int nt) {
       });
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
-  slots = LatticeSlots{};
-  if (bonds.r0.empty()) slots = lattice_slots(bonds, N, D, nt);
+  slots = LatticeSlots<D>{};
+  if (bonds.r0.empty()) slots = lattice_slots<D>(bonds, N, nt);
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
     bond_owner.resize(bonds.size());
@@ -494,6 +496,8 @@ void Model<D>::build_plan(int nt) {
   template void Model<D>::take_contacts(PairList);                                                        \
   template int Model<D>::effective_threads(int) const;                                                    \
   template void Model<D>::build_plan(int);                                                                \
+  template LatticeSlots<D> lattice_slots<D>(const PairList&, std::size_t, int);                           \
+  template bool slot_offsets<D>(const PairList&, std::size_t, std::vector<std::uint32_t>&);               \
   template std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int) const;
 STRATA_DEM_INSTANTIATE(2)
 STRATA_DEM_INSTANTIATE(3)

@@ -172,3 +172,21 @@ TEST(Determinism, SlotsOnRangesShorterThanARow) {
   EXPECT_EQ(a.broken, b.broken);
   EXPECT_EQ(a.breaks.size(), b.breaks.size());
 }
+
+TEST(Determinism, SlotsInTenDirections3D) {
+  // A close-packed box whose rows within a layer are all of one length: partners at
+  // p + 1, p + L - 1, p + L and p + L + 1 in the layer and six offsets into the next, ten
+  // directions. In lattice slots on three threads it steps with the bits of the general
+  // path on one, through its first breaks.
+  const auto lat = preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
+                                                {10.6 * kRockD, 9 * kRockD, 9 * kRockD}, kRockD);
+  const Outcome a = run(3, 3, 1, false, true, &lat), b = run(3, 1, 1, false, false, &lat);
+  EXPECT_GT(a.slot_steps, 100);
+  EXPECT_EQ(b.slot_steps, 0);
+  EXPECT_GT(a.broken, 10u) << "the test must exercise breaking";
+  EXPECT_EQ(a.hash, b.hash);
+  EXPECT_EQ(a.ke, b.ke);
+  EXPECT_EQ(a.eb, b.eb);
+  EXPECT_EQ(a.broken, b.broken);
+  EXPECT_EQ(a.breaks.size(), b.breaks.size());
+}

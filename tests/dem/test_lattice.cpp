@@ -69,8 +69,8 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
   // while no bond is broken; none with normal springs only, ks = 0, whose shear force is zero
   // whatever the history); the bond pass finds each bond's owner from the offsets, or, with
   // normal springs only, from an owner byte per bond. Both lattices, numbered row by row
-  // (and layer by layer), hold their bonds in lattice slots: a byte per particle saying
-  // which directions it owns, and a ring of each direction's forces and energies (D + 1
+  // (and layer by layer), hold their bonds in lattice slots: a byte per disk (two per
+  // sphere) saying which directions it owns, and a ring of each direction's forces and energies (D + 1
   // doubles each, entries: the next power of two at or above the direction's offset plus a
   // block): 2D rows of 100 disks, 3 directions of 512 entries; 3D layers of 429 spheres, 8
   // directions, partners p + 1, p + 19 and p + 20 (512 entries) and five a layer ahead
@@ -98,7 +98,7 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
       const double arrays = n * (3 * dim * 8 + 8 + 2 + 8) + nb * (4 + 1 + 4 * ns + (central ? 1 : 0));
       // ring entries: 3 directions of 512 in 2D; 3 of 512 and 5 of 1024 in 3D
       const double entries = dim == 2 ? 3 * 512 : 3 * 512 + 5 * 1024, cols = dim == 2 ? 3 : 6;
-      const double ring = dim * 32 * 256 * 8.0 + n + (dim + 1) * entries * 8.0;
+      const double ring = dim * 32 * 256 * 8.0 + n * (dim - 1) + (dim + 1) * entries * 8.0;
       const double got = static_cast<double>(sim.memory_bytes());
       EXPECT_GE(got, arrays + ring) << dim << "D";
       // the rest: per-block accumulators (64 B per 256 particles) and the block slot map

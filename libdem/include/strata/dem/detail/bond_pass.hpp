@@ -86,9 +86,19 @@ struct BondSpan {
   std::uint32_t pa = 0, so = 0;
   int dir = 0;
   const std::uint32_t* soff = nullptr;
-  const std::uint8_t* smask = nullptr;
-  bool* slow_seen = nullptr;  // set where an entry is left to the reference kernel
+  const std::uint8_t* smask = nullptr;    // 2D
+  const std::uint16_t* smask3 = nullptr;  // 3D (up to ten directions)
+  bool* slow_seen = nullptr;              // set where an entry is left to the reference kernel
 };
+
+/// The directions owner pa + q holds (BondSpan::smask, or smask3 in 3D).
+template <int D>
+[[gnu::always_inline]] inline std::uint32_t slot_mask(const BondSpan& sp, std::size_t q) {
+  if constexpr (D == 2)
+    return sp.smask[q];
+  else
+    return sp.smask3[q];
+}
 
 /// Bonds qa..qb-1 of a block: the geometry of each bond, then the law's batch form
 /// (`Law::lane`) for both kinds of bond: intact and, when kBroken, broken (friction only).
@@ -152,7 +162,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   };
   for (std::size_t i = 0; i < len_q; ++i) {
     if constexpr (kInSlots) {
-      HAS[i] = sp.smask[qa + i] >> sp.dir & 1;
+      HAS[i] = slot_mask<D>(sp, qa + i) >> sp.dir & 1;
     } else {
       P[i] = up0 + own[qa + i];
       J[i] = bj[qa + i];
@@ -257,10 +267,11 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       }
       std::uint32_t bond = k0 + static_cast<std::uint32_t>(qa + i);
       if constexpr (kInSlots) {  // LatticeSlots::bond, counted without popcount (vector lanes)
-        const std::uint32_t lower = sp.smask[qa + i] & ((1u << sp.dir) - 1u);
+        const std::uint32_t lower = slot_mask<D>(sp, qa + i) & ((1u << sp.dir) - 1u);
         bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
         if constexpr (D == 3)
-          bond += (lower >> 3 & 1u) + (lower >> 4 & 1u) + (lower >> 5 & 1u) + (lower >> 6 & 1u);
+          bond += (lower >> 3 & 1u) + (lower >> 4 & 1u) + (lower >> 5 & 1u) + (lower >> 6 & 1u) +
+                  (lower >> 7 & 1u) + (lower >> 8 & 1u);
       }
       const std::uint32_t bits = BondShear<kNs>::dither_bits(bond, salt);
       for (int a = 0; a < kNs; ++a)

@@ -437,16 +437,20 @@ inline constexpr std::size_t kMaxSlotRing = 32768;
 /// lengths and no contacts at the time, on any number of threads: each has a ring of its
 /// own, and the bonds that cross into a later thread's range are computed by that thread
 /// (phase A) and copied into both rings (docs/dem.md, "Bonds in lattice slots").
+template <int D>
 struct LatticeSlots {
   /// Directions: three for a hexagonal lattice of rows of L and L - 1 disks (partners p + 1,
   /// p + L - 1, p + L), four for one of rows of L disks each (an owner in an even row bonds
-  /// to p + 1, p + L - 1 and p + L, one in an odd row to p + 1, p + L and p + L + 1).
-  static constexpr int kMax = 8;
+  /// to p + 1, p + L - 1 and p + L, one in an odd row to p + 1, p + L and p + L + 1). A
+  /// close-packed box of layers of M spheres adds four to six into the next layer (p + M +
+  /// {-L, -1, 0, 1, L - 1, L} and their like): at most ten.
+  static constexpr int kMax = D == 2 ? 4 : 10;
+  using Mask = std::conditional_t<D == 2, std::uint8_t, std::uint16_t>;
   int n = 0;                  // directions; 0: the model is not held in slots
   std::uint32_t off[kMax]{};  // each direction's partner offset, ascending
   /// Per particle, bit d: it owns a bond in direction d (its partner is p + off[d]). That
   /// bond's index is bonds.off[p] + the number of p's bonds in earlier directions.
-  std::vector<std::uint8_t> mask;
+  std::vector<Mask> mask;
   /// Forces (D per direction) and energies of the bonds a block's owners hold, per thread
   /// and direction, in a ring over the particles: direction d's has ring[d] entries, a
   /// power of two, at least off[d] + kBlock, so an owner's entry lives until its partner
@@ -470,7 +474,7 @@ struct LatticeSlots {
   bool held = false;   // st and uq hold the bonds' state
   bool ahead = false;  // ... and the bonds' own arrays are behind it
   /// The bond of owner p in direction d (bit d of mask[p] set), given p's first bond.
-  std::uint32_t bond(std::uint32_t first, std::uint8_t m, int d) const {
+  std::uint32_t bond(std::uint32_t first, Mask m, int d) const {
     return first + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(m & ((1u << d) - 1))));
   }
   int cols = 0;
@@ -480,7 +484,7 @@ struct LatticeSlots {
     return static_cast<std::size_t>(col[d]) * n + p;
   }
   /// The direction of bond k, owned by a particle with mask m whose first bond is `first`.
-  int direction(std::uint32_t first, std::uint8_t m, std::uint32_t k) const {
+  int direction(std::uint32_t first, Mask m, std::uint32_t k) const {
     int d = 0;
     for (std::uint32_t b = first;; ++d)
       if (m >> d & 1u && b++ == k) return d;
@@ -491,22 +495,21 @@ struct LatticeSlots {
       if (off[d] == q - p) return mask[p] >> d & 1u;
     return false;
   }
-  int axes = 0;  // D
   double* force(int t, int d, int a) {
-    return f.data() + (static_cast<std::size_t>(t) * per + at[d]) * axes +
-           static_cast<std::size_t>(a) * ring[d];
+    return f.data() + (static_cast<std::size_t>(t) * per + at[d]) * D + static_cast<std::size_t>(a) * ring[d];
   }
   double* energy(int t, int d) { return en.data() + static_cast<std::size_t>(t) * per + at[d]; }
   /// Direction d's ring entry of owner p.
   std::size_t slot(int d, std::size_t p) const { return p & (ring[d] - 1); }
 };
 
-/// The slots of `bonds` over n particles of dimension axes, with rings for `threads` threads
-/// (LatticeSlots::n = 0 where they do not fit: more than LatticeSlots::kMax offsets, or one
-/// beyond the ring).
-LatticeSlots lattice_slots(const PairList& bonds, std::size_t n, int axes, int threads = 1);
+/// The slots of `bonds` over n particles, with rings for `threads` threads (LatticeSlots::n
+/// = 0 where they do not fit: more than LatticeSlots::kMax offsets, or one beyond a ring).
+template <int D>
+LatticeSlots<D> lattice_slots(const PairList& bonds, std::size_t n, int threads = 1);
 /// The distinct offsets of `bonds`' partners from their owners, ascending, into offs;
 /// whether they fit lattice slots (lattice_slots would hold them).
+template <int D>
 bool slot_offsets(const PairList& bonds, std::size_t n, std::vector<std::uint32_t>& offs);
 
 /// What one step needs besides the arrays.
@@ -539,7 +542,7 @@ struct ModelData {
   BondShear<kNs> bond_us;       // the bonds' shear histories (empty when the model keeps none)
   std::vector<BcParticle> bcp;  // sorted by index
   std::vector<BlockAcc> acc;
-  LatticeSlots slots;
+  LatticeSlots<D> slots;
   std::int64_t slots_steps = 0;  // steps taken in slots
 
   // ---- thread plan and step scratch ----------------------------------------------------

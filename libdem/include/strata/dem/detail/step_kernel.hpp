@@ -307,7 +307,7 @@ class Engine final : public LawEngine<D> {
       int broke = 0;
       double e;
       if constexpr (kSlots) {
-        LatticeSlots& L = m.slots;  // the bonds' partners are let go: the slots say them
+        LatticeSlots<D>& L = m.slots;  // the bonds' partners are let go: the slots say them
         const int d = L.direction(m.bonds.off[p], L.mask[p], k);
         const std::uint32_t j = p + L.off[d];
         e = slot_bond_force<kEnergy>(m, t, c, X, V, p, k, j, d, F, broke);
@@ -487,7 +487,7 @@ class Engine final : public LawEngine<D> {
   template <bool kEnergy, Rest kRest>
   void bond_block_slots(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0, std::ptrdiff_t pe,
                         std::ptrdiff_t e) const {
-    LatticeSlots& L = m.slots;
+    LatticeSlots<D>& L = m.slots;
     Scratch<D>& S = m.scratch[t];
     const std::size_t nb = static_cast<std::size_t>(pe - p0);
     if (S.slow.size() < nb) S.slow.resize(nb);
@@ -536,7 +536,10 @@ class Engine final : public LawEngine<D> {
       sp.so = L.off[d];
       sp.dir = d;
       sp.soff = m.bonds.off.data() + p0;
-      sp.smask = L.mask.data() + p0;
+      if constexpr (D == 2)
+        sp.smask = L.mask.data() + p0;
+      else
+        sp.smask3 = L.mask.data() + p0;
       bool any_slow = false;
       sp.slow_seen = &any_slow;
       bond_chunks<D, Law, kEnergy, kRest, true>(sp, laws[0], c.dt, m.uniform_diameter, len);
@@ -575,7 +578,7 @@ class Engine final : public LawEngine<D> {
   double slot_bond_force(ModelData<D>& m, int t, const StepCtx& c, const double* const* X,
                          const double* const* V, std::size_t p, std::uint32_t k, std::uint32_t j, int d,
                          double* F, int& broke) const {
-    LatticeSlots& L = m.slots;
+    LatticeSlots<D>& L = m.slots;
     const std::size_t s = L.entry(d, p, m.n());
     return bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s],
                                   m.bond_us.empty() ? nullptr : &L.uq[s * kNs], F, broke);
@@ -641,7 +644,7 @@ class Engine final : public LawEngine<D> {
   /// direction, as the plan numbers them). Out of line: a few blocks of a range have any.
   [[gnu::noinline]] static void slots_cross_in(ModelData<D>& m, int t, std::ptrdiff_t p0, std::ptrdiff_t pe,
                                                std::ptrdiff_t e, std::size_t& cur) {
-    LatticeSlots& L = m.slots;
+    LatticeSlots<D>& L = m.slots;
     for (std::ptrdiff_t p = std::max<std::ptrdiff_t>(p0, e - L.off[L.n - 1]); p < pe; ++p)
       for (int d = 0; d < L.n; ++d)
         if ((L.mask[p] >> d & 1u) && p + static_cast<std::ptrdiff_t>(L.off[d]) >= e) {
@@ -656,13 +659,14 @@ class Engine final : public LawEngine<D> {
   /// lanes: direction by direction, minus the bonds they are the partner of (descending
   /// direction: ascending owner), then plus their own (ascending partner), each where the
   /// bond exists. Every particle's sum takes the terms in pull_slots' order.
-  static void pull_block(LatticeSlots& L, int t, std::ptrdiff_t p0, std::ptrdiff_t pe, double (*F)[kBlock]) {
+  static void pull_block(LatticeSlots<D>& L, int t, std::ptrdiff_t p0, std::ptrdiff_t pe,
+                         double (*F)[kBlock]) {
     const std::size_t nb = static_cast<std::size_t>(pe - p0);
-    const std::uint8_t* __restrict mk = L.mask.data();
+    const auto* __restrict mk = L.mask.data();
     for (int a = 0; a < D; ++a) std::fill_n(F[a], nb, 0.0);
     // entries q in [qa, qb) whose ring entries are R + q (no wrap), mask bytes M + q
     auto apply = [&](int d, std::size_t qa, std::size_t qb, std::ptrdiff_t shift, bool own) {
-      const std::uint8_t* __restrict M = mk + p0 - shift;
+      const auto* __restrict M = mk + p0 - shift;
       for (int a = 0; a < D; ++a) {
         const std::size_t r =
             L.slot(d, static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)));
@@ -744,8 +748,8 @@ class Engine final : public LawEngine<D> {
   /// partner of, by ascending owner (descending direction), then plus its own, by ascending
   /// partner; eb gains its own bonds' energies in the same order (kEnergy).
   template <bool kEnergy>
-  static inline void pull_slots(LatticeSlots& L, int t, std::ptrdiff_t p, double* F, double& eb) {
-    const std::uint8_t* mk = L.mask.data();
+  static inline void pull_slots(LatticeSlots<D>& L, int t, std::ptrdiff_t p, double* F, double& eb) {
+    const auto* mk = L.mask.data();
     for (int a = 0; a < D; ++a) F[a] = 0.0;
     for (int d = L.n - 1; d >= 0; --d) {
       const std::ptrdiff_t o = p - static_cast<std::ptrdiff_t>(L.off[d]);
@@ -754,7 +758,7 @@ class Engine final : public LawEngine<D> {
         for (int a = 0; a < D; ++a) F[a] -= L.force(t, d, a)[r];
       }
     }
-    const std::uint8_t mp = mk[p];
+    const auto mp = mk[p];
     for (int d = 0; d < L.n; ++d)
       if (mp >> d & 1u) {
         const std::size_t r = L.slot(d, static_cast<std::size_t>(p));
