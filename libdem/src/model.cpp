@@ -374,8 +374,8 @@ std::size_t Model<D>::memory_bytes() const {
   for (const PendingPool& P : pend)
     b += (P.ring.capacity() + P.buf.capacity()) * sizeof(double) + P.spare.capacity() * 4;
   b += events.capacity() * sizeof(BreakEvent);
-  b += slots.mask.capacity() * sizeof(slots.mask[0]) + slots.st.capacity() + slots.uq.capacity() * 4 +
-       (slots.f.capacity() + slots.en.capacity()) * sizeof(double);
+  b += slots.mask.capacity() * sizeof(slots.mask[0]) + slots.run.capacity() * 4 + slots.st.capacity() +
+       slots.uq.capacity() * 4 + (slots.f.capacity() + slots.en.capacity()) * sizeof(double);
   return b;
 }
 

@@ -398,6 +398,20 @@ LatticeSlots<D> lattice_slots(const PairList& bonds, std::size_t n, int threads)
     s.at[d] = s.per;
     s.per += s.ring[d];
   }
+  for (int d = 0; d < s.n; ++d) {
+    s.run_at[d] = s.run.size();
+    for (std::uint32_t p = 0; p < n;) {
+      while (p < n && !(s.mask[p] >> d & 1u)) ++p;
+      if (p == n) break;
+      std::uint32_t q = p, last = p;
+      for (; q < n && q - last < Slots::kGap; ++q)
+        if (s.mask[q] >> d & 1u) last = q;
+      s.run.push_back(p);
+      s.run.push_back(last + 1);
+      p = q;
+    }
+  }
+  s.run_at[s.n] = s.run.size();
   s.threads = threads;
   s.f.assign(static_cast<std::size_t>(threads) * s.per * D, 0.0);
   s.en.assign(static_cast<std::size_t>(threads) * s.per, 0.0);

@@ -377,14 +377,15 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   }
 }
 
-/// The bond pass of one block's mq bonds, chunk by chunk: chunks with no broken bond (nearly
-/// all of an unbroken lattice) skip the broken-bond law; the others take the full one.
+/// The bond pass of one block's bonds q0..mq-1, chunk by chunk: chunks with no broken bond
+/// (nearly all of an unbroken lattice) skip the broken-bond law; the others take the full one.
 template <int D, class Law, bool kEnergy, Rest kRest, bool kInSlots = false>
-void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t mq) {
+void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, std::size_t mq,
+                 std::size_t q0 = 0) {
   constexpr int kNs = kNsOf<D>;
   const std::uint8_t* stq = sp.st;
   const std::int32_t* uq = sp.uq;
-  for (std::size_t qa = 0; qa < mq; qa += kChunk) {  // left scalar: a chunk at a time
+  for (std::size_t qa = q0; qa < mq; qa += kChunk) {  // left scalar: a chunk at a time
     const std::size_t qb = std::min(mq, qa + kChunk);
     // shut: a broken bond that touches, or one that has not been found open yet (its state
     // and Us are the law's to settle)

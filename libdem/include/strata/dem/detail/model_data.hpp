@@ -479,6 +479,13 @@ struct LatticeSlots {
   }
   int cols = 0;
   int col[kMax]{};
+  /// Per direction, the runs of owners with a bond in it, [begin, end) in pairs from
+  /// run[run_at[d]] to run[run_at[d + 1]], across gaps of fewer than kGap owners without
+  /// one (the bond pass computes those as stand-ins and drops them): a direction that
+  /// alternates with the row leaves whole rows out, which the pass then skips.
+  static constexpr std::uint32_t kGap = 16;
+  std::vector<std::uint32_t> run;
+  std::size_t run_at[kMax + 1]{};
   /// The entry of owner p's bond in direction d in st (and its kNs in uq), of n particles.
   std::size_t entry(int d, std::size_t p, std::size_t n) const {
     return static_cast<std::size_t>(col[d]) * n + p;

@@ -542,7 +542,26 @@ class Engine final : public LawEngine<D> {
         sp.smask3 = L.mask.data() + p0;
       bool any_slow = false;
       sp.slow_seen = &any_slow;
-      bond_chunks<D, Law, kEnergy, kRest, true>(sp, laws[0], c.dt, m.uniform_diameter, len);
+      // the runs of owners with a bond in this direction (LatticeSlots::run); the entries
+      // between them are not computed, as a stand-in's would be dropped
+      const std::uint32_t* rb = L.run.data() + L.run_at[d];
+      const std::uint32_t* rend = L.run.data() + L.run_at[d + 1];
+      const auto ua = static_cast<std::uint32_t>(p0), ub = static_cast<std::uint32_t>(pb);
+      // the first run that ends past p0: ends are the odd entries, ascending
+      std::ptrdiff_t lo = 0, hi = (rend - rb) / 2;
+      while (lo < hi) {
+        const std::ptrdiff_t mid = (lo + hi) / 2;
+        if (rb[2 * mid + 1] <= ua)
+          lo = mid + 1;
+        else
+          hi = mid;
+      }
+      for (const std::uint32_t* rr = rb + 2 * lo; rr < rend && rr[0] < ub; rr += 2) {
+        const std::uint32_t qa = std::max(rr[0], ua) - ua, qb = std::min(rr[1], ub) - ua;
+        if (rr == rb + 2 * lo && (qa > 0 || qb < len))
+          std::fill_n(sslow, len, std::uint8_t{0});  // verdicts of the entries left out
+        bond_chunks<D, Law, kEnergy, kRest, true>(sp, laws[0], c.dt, m.uniform_diameter, qb, qa);
+      }
       if (any_slow) [[unlikely]]
         for (std::size_t q = 0; q < len; ++q)
           if (sslow[q]) {
