@@ -1,6 +1,7 @@
 // The DEM model's storage: structure-of-arrays particles, ids and groups, the spatial order
-// that keeps bond endpoints close in memory (Morton; row by row, and layer by layer, for a lattice whose
-// bonds then sit in lattice slots), and read access for writers. Physics and design notes: docs/dem.md.
+// that keeps bond endpoints close in memory (Morton; row by row, and layer by layer, for a
+// lattice whose bonds then sit in lattice slots), and read access for writers.
+// Physics and design notes: docs/dem.md.
 #include "model.hpp"
 
 #include <strata/core/error.hpp>
@@ -384,11 +385,12 @@ std::size_t Model<D>::streamed_bytes_per_step() const {
   // The bytes a step reads and writes in memory, as the model last stepped.
   if (slots.held) {
     // stepping in lattice slots: per particle its positions and velocities, flags, first
-    // bond's index (the shear history's rounding) and byte of directions; per column of
-    // slots a state byte and shear history read and written, whether or not the particle
-    // has that bond
+    // bond's index (the shear history's rounding) and mask of directions (a byte in 2D, two
+    // in 3D); per column of slots a state byte and shear history read and written, whether
+    // or not the particle has that bond
     const std::size_t column = 2 + (bond_us.empty() ? 0 : 2 * kNs * 4);
-    return n() * (2 * D * 2 * sizeof(double) + 1 + 4 + 1 + static_cast<std::size_t>(slots.cols) * column);
+    return n() * (2 * D * 2 * sizeof(double) + 1 + 4 + sizeof(slots.mask[0]) +
+                  static_cast<std::size_t>(slots.cols) * column);
   }
   // Per particle: positions and
   // velocities read and written; inverse mass and radius read where they differ between particles; the flags

@@ -197,6 +197,7 @@ class Model final : public ModelBase, public ModelData<D> {
   using Data::bond_us;
   using Data::bonds;
   using Data::bonds_current;
+  using Data::bonds_let_go;
   using Data::contacts;
   using Data::cross_b;
   using Data::cross_c;

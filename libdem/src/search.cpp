@@ -238,7 +238,7 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
 
 template <int D>
 bool Model<D>::bonded(std::size_t p, std::uint32_t q) const {
-  if (bonds.j.size() != bonds.size()) return slots.bonds_to(p, q);  // stepping in slots: partners let go
+  if (bonds_let_go()) return slots.bonds_to(p, q);  // stepping in slots
   for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
     if (bonds.j[k] == q) return true;
   return false;

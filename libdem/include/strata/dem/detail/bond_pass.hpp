@@ -269,6 +269,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       if constexpr (kInSlots) {  // LatticeSlots::bond, counted without popcount (vector lanes)
         const std::uint32_t lower = slot_mask<D>(sp, qa + i) & ((1u << sp.dir) - 1u);
         bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
+        static_assert(LatticeSlots<D>::kMax == (D == 2 ? 4 : 10), "one term per lower direction");
         if constexpr (D == 3)
           bond += (lower >> 3 & 1u) + (lower >> 4 & 1u) + (lower >> 5 & 1u) + (lower >> 6 & 1u) +
                   (lower >> 7 & 1u) + (lower >> 8 & 1u);

@@ -665,7 +665,7 @@ struct ModelData {
   void bonds_current() const {
     if (!slots.ahead) return;
     auto& self = const_cast<ModelData&>(*this);
-    if (bonds.st.size() != bonds.size()) {  // let go while stepping: held again
+    if (bonds_let_go()) {  // held again
       self.bonds.j.resize(bonds.size());
       self.bonds.st.resize(bonds.size());
       self.bond_us.q.resize(bond_us.count);
@@ -678,12 +678,14 @@ struct ModelData {
   /// say the partners. bonds_current() allocates them again when something reads them
   /// between steps, until the next step.
   void slots_let_go() {
-    if (bonds.st.empty()) return;
+    if (bonds_let_go() || bonds.size() == 0) return;
     std::vector<std::uint32_t>().swap(bonds.j);  // their memory goes (clear() would keep it)
     std::vector<std::uint8_t>().swap(bonds.st);
     std::vector<std::int32_t>().swap(bond_us.q);
     slots.ahead = true;
   }
+  /// Whether the bonds' partner and state arrays are let go (slots_let_go).
+  bool bonds_let_go() const { return bonds.j.size() != bonds.size(); }
   /// The bonds' arrays up to date and the slots' copy let go (before the arrays change, or a
   /// step that does not use slots).
   void slots_release() {
