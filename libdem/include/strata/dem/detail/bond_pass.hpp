@@ -149,6 +149,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   alignas(64) std::int64_t WI[kChunk], WF[kChunk];      // WF: 1 for a wide bond (WI >= 0)
   alignas(64) std::int64_t OST[kChunk], DONE[kChunk];   // kBroken: the law's new state and verdict
   alignas(64) std::int64_t HAS[kInSlots ? kChunk : 1];  // kInSlots: 1 where the owner has the bond
+  alignas(64) std::int64_t BI[kInSlots && kShear ? kChunk : 1];  // kInSlots: the bond's index
   // 1 where a fast bond's new Us goes to its 32-bit steps: in 32-bit lanes like the steps
   // and applied by masks (with a 64-bit flag or a select GCC 12 left the 3D store scalar)
   alignas(64) std::int32_t PUT32[kShear ? kChunk : 1];
@@ -162,7 +163,17 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   };
   for (std::size_t i = 0; i < len_q; ++i) {
     if constexpr (kInSlots) {
-      HAS[i] = slot_mask<D>(sp, qa + i) >> sp.dir & 1;
+      const std::uint32_t mask = slot_mask<D>(sp, qa + i);
+      HAS[i] = mask >> sp.dir & 1;
+      if constexpr (kShear) {  // LatticeSlots::bond, counted without popcount (vector lanes)
+        const std::uint32_t lower = mask & ((1u << sp.dir) - 1u);
+        std::uint32_t bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
+        static_assert(LatticeSlots<D>::kMax == (D == 2 ? 4 : 10), "one term per lower direction");
+        if constexpr (D == 3)
+          bond += (lower >> 3 & 1u) + (lower >> 4 & 1u) + (lower >> 5 & 1u) + (lower >> 6 & 1u) +
+                  (lower >> 7 & 1u) + (lower >> 8 & 1u);
+        BI[i] = bond;
+      }
     } else {
       P[i] = up0 + own[qa + i];
       J[i] = bj[qa + i];
@@ -266,14 +277,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
         held = in32 | open;
       }
       std::uint32_t bond = k0 + static_cast<std::uint32_t>(qa + i);
-      if constexpr (kInSlots) {  // LatticeSlots::bond, counted without popcount (vector lanes)
-        const std::uint32_t lower = slot_mask<D>(sp, qa + i) & ((1u << sp.dir) - 1u);
-        bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
-        static_assert(LatticeSlots<D>::kMax == (D == 2 ? 4 : 10), "one term per lower direction");
-        if constexpr (D == 3)
-          bond += (lower >> 3 & 1u) + (lower >> 4 & 1u) + (lower >> 5 & 1u) + (lower >> 6 & 1u) +
-                  (lower >> 7 & 1u) + (lower >> 8 & 1u);
-      }
+      if constexpr (kInSlots) bond = static_cast<std::uint32_t>(BI[i]);
       const std::uint32_t bits = BondShear<kNs>::dither_bits(bond, salt);
       for (int a = 0; a < kNs; ++a)
         QN[a][i] = BondShear<kNs>::steps_of(in32 != 0 ? NU[a][i] * inv : 0.0, bits, a);

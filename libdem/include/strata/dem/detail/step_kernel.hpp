@@ -484,6 +484,11 @@ class Engine final : public LawEngine<D> {
   // others are phase A's of a later thread) go through bond_chunks with kInSlots; forces and
   // energies land in the thread's ring. The bonds the batch form leaves are then redone by
   // the reference kernel in bond order, as bond_block does, on their state in the slots.
+  /// The bond pass's lanes in a vector at most (16 bonds in 512 bits: its shear steps are
+  /// 32-bit), and the gap between two runs is at least as wide (LatticeSlots::kGap).
+  static constexpr std::uint32_t kRunLanes = 16;
+  static_assert(LatticeSlots<D>::kGap >= kRunLanes, "a run's early start stays in the gap before it");
+
   template <bool kEnergy, Rest kRest>
   void bond_block_slots(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0, std::ptrdiff_t pe,
                         std::ptrdiff_t e) const {
@@ -556,8 +561,16 @@ class Engine final : public LawEngine<D> {
         else
           hi = mid;
       }
+      std::uint32_t done = 0;  // the entries up to the end of the last run
       for (const std::uint32_t* rr = rb + 2 * lo; rr < rend && rr[0] < ub; rr += 2) {
-        const std::uint32_t qa = std::max(rr[0], ua) - ua, qb = std::min(rr[1], ub) - ua;
+        std::uint32_t qa = std::max(rr[0], ua) - ua;
+        const std::uint32_t qb = std::min(rr[1], ub) - ua;
+        // a whole number of vectors: the run starts up to kRunLanes - 1 entries early, in
+        // the gap before it (owners without the bond: stand-ins, dropped), where it has one;
+        // the compiler's shorter loops for the last few entries run at a fraction of the rate
+        const std::uint32_t pad = (kRunLanes - (qb - qa) % kRunLanes) % kRunLanes;
+        qa = std::max(done, qa >= pad ? qa - pad : 0u);
+        done = qb;
         if (rr == rb + 2 * lo && (qa > 0 || qb < len))
           std::fill_n(sslow, len, std::uint8_t{0});  // verdicts of the entries left out
         bond_chunks<D, Law, kEnergy, kRest, true>(sp, laws[0], c.dt, m.uniform_diameter, qb, qa);
