@@ -146,9 +146,9 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   alignas(64) std::int64_t P[kChunk], J[kChunk], ST[kChunk], SLOW[kChunk];
   // the entry of a wide bond's history in bwide, or -1 (with kBroken only: a chunk without
   // a broken or wide bond holds every history in 32 bits)
-  alignas(64) std::int64_t WI[kChunk], WF[kChunk];      // WF: 1 for a wide bond (WI >= 0)
-  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];   // kBroken: the law's new state and verdict
-  alignas(64) std::int64_t HAS[kInSlots ? kChunk : 1];  // kInSlots: 1 where the owner has the bond
+  alignas(64) std::int64_t WI[kChunk], WF[kChunk];               // WF: 1 for a wide bond (WI >= 0)
+  alignas(64) std::int64_t OST[kChunk], DONE[kChunk];            // kBroken: the law's new state and verdict
+  alignas(64) std::int64_t HAS[kInSlots ? kChunk : 1];           // kInSlots: 1 where the owner has the bond
   alignas(64) std::int64_t BI[kInSlots && kShear ? kChunk : 1];  // kInSlots: the bond's index
   // 1 where a fast bond's new Us goes to its 32-bit steps: in 32-bit lanes like the steps
   // and applied by masks (with a 64-bit flag or a select GCC 12 left the 3D store scalar)

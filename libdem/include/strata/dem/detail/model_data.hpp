@@ -150,6 +150,15 @@ struct BondShear {
   }
   /// x rounded to the nearest integer, ties to even (|x| < 2^51; no rounding-mode change).
   static double nearest(double x) { return (x + 0x1.8p52) - 0x1.8p52; }
+  /// nearest(x) as an integer (|x| < 2^31, the default rounding mode): with GCC one
+  /// conversion under the current rounding mode, which vectorises (two adds fewer a value).
+  static std::int32_t nearest_int(double x) {
+#if defined(__GNUC__) && !defined(__clang__)
+    return __builtin_irint(x);
+#else
+    return static_cast<std::int32_t>(nearest(x));
+#endif
+  }
   /// The salt of step `step`: a hash of its number (Wellons' lowbias32, good avalanche).
   static std::uint32_t salt_of(std::int64_t step) {
     std::uint32_t h = static_cast<std::uint32_t>(step) ^ static_cast<std::uint32_t>(step >> 32);
@@ -173,9 +182,7 @@ struct BondShear {
   /// Component a of a bond, x = u/unit (within the reach), in steps, stochastically
   /// rounded with h = dither_bits(k, salt): the one rounding of both the bond pass and
   /// store(), so that the two give the same bits.
-  static std::int32_t steps_of(double x, std::uint32_t h, int a) {
-    return static_cast<std::int32_t>(nearest(x + dither(h, a)));
-  }
+  static std::int32_t steps_of(double x, std::uint32_t h, int a) { return nearest_int(x + dither(h, a)); }
   /// The unit for bonds that hold up to `reach` (m) while intact.
   static double unit_for(double reach) {
     int e = 0;
@@ -260,7 +267,7 @@ struct BondShear {
       const double* uk = u.data() + k * NS;
       const bool intact = (st[k] & pair_state::kKindMask) == pair_state::kIntact;
       if (intact && fits(uk)) {
-        for (int a = 0; a < NS; ++a) q[k * NS + a] = static_cast<std::int32_t>(nearest(uk[a] * inv));
+        for (int a = 0; a < NS; ++a) q[k * NS + a] = nearest_int(uk[a] * inv);
       } else {
         add_wide(k, intact, uk);
       }
