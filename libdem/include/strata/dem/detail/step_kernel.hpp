@@ -699,19 +699,22 @@ class Engine final : public LawEngine<D> {
     // entries q in [qa, qb) whose ring entries are R + q (no wrap), mask bytes M + q
     auto apply = [&](int d, std::size_t qa, std::size_t qb, std::ptrdiff_t shift, bool own) {
       const auto* __restrict M = mk + p0 - shift;
-      for (int a = 0; a < D; ++a) {
-        const std::size_t r =
-            L.slot(d, static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)));
-        const double* __restrict R = L.force(t, d, a) + r - qa;
-        double* __restrict Fa = F[a];
-        const unsigned sh = static_cast<unsigned>(d);
-        if (own) {
+      const std::size_t r = L.slot(d, static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)));
+      const double* __restrict R0 = L.force(t, d, 0) + r - qa;
+      const double* __restrict R1 = L.force(t, d, 1) + r - qa;
+      const double* __restrict R2 = L.force(t, d, D - 1) + r - qa;
+      double* __restrict F0 = F[0];
+      double* __restrict F1 = F[1];
+      double* __restrict F2 = F[D - 1];
+      const unsigned sh = static_cast<unsigned>(d);
+      const double sign = own ? 1.0 : -1.0;  // exact: R or -R
+      // R[q] where the bond exists, else +0 (F is never -0: F + 0 is F)
 #pragma omp simd
-          for (std::size_t q = qa; q < qb; ++q) Fa[q] = (M[q] >> sh & 1u) ? Fa[q] + R[q] : Fa[q];
-        } else {
-#pragma omp simd
-          for (std::size_t q = qa; q < qb; ++q) Fa[q] = (M[q] >> sh & 1u) ? Fa[q] - R[q] : Fa[q];
-        }
+      for (std::size_t q = qa; q < qb; ++q) {
+        const std::int64_t on = -static_cast<std::int64_t>(M[q] >> sh & 1u);
+        F0[q] += masked(sign * R0[q], on);
+        F1[q] += masked(sign * R1[q], on);
+        if constexpr (D == 3) F2[q] += masked(sign * R2[q], on);
       }
     };
     auto pass = [&](int d, std::ptrdiff_t shift, bool own) {
