@@ -151,7 +151,8 @@ struct BondShear {
   /// x rounded to the nearest integer, ties to even (|x| < 2^51; no rounding-mode change).
   static double nearest(double x) { return (x + 0x1.8p52) - 0x1.8p52; }
   /// nearest(x) as an integer (|x| < 2^31, the default rounding mode): with GCC one
-  /// conversion under the current rounding mode, which vectorises (two adds fewer a value).
+  /// conversion under the current rounding mode, which vectorises, in place of nearest()'s
+  /// two additions and a truncation.
   static std::int32_t nearest_int(double x) {
 #if defined(__GNUC__) && !defined(__clang__)
     return __builtin_irint(x);

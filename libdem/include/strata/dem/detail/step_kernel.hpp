@@ -479,16 +479,16 @@ class Engine final : public LawEngine<D> {
     }
   }
 
-  // The bond pass of one block in lattice slots (LatticeSlots): direction by direction, the
-  // entries of the block's owners whose partner lies in this thread's range (j < e; the
-  // others are phase A's of a later thread) go through bond_chunks with kInSlots; forces and
-  // energies land in the thread's ring. The bonds the batch form leaves are then redone by
-  // the reference kernel in bond order, as bond_block does, on their state in the slots.
   /// The bond pass's lanes in a vector at most (16 bonds in 512 bits: its shear steps are
   /// 32-bit), and the gap between two runs is at least as wide (LatticeSlots::kGap).
   static constexpr std::uint32_t kRunLanes = 16;
   static_assert(LatticeSlots<D>::kGap >= kRunLanes, "a run's early start stays in the gap before it");
 
+  // The bond pass of one block in lattice slots (LatticeSlots): direction by direction, the
+  // entries of the block's owners whose partner lies in this thread's range (j < e; the
+  // others are phase A's of a later thread) go through bond_chunks with kInSlots; forces and
+  // energies land in the thread's ring. The bonds the batch form leaves are then redone by
+  // the reference kernel in bond order, as bond_block does, on their state in the slots.
   template <bool kEnergy, Rest kRest>
   void bond_block_slots(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0, std::ptrdiff_t pe,
                         std::ptrdiff_t e) const {
