@@ -61,22 +61,23 @@ TEST(Lattice, StreamedBytesOfAStepCountParticlesAndBonds) {
 }
 
 TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
-  // A lattice of one material: per particle x, v and x0 (3·D doubles), id and group
-  // set (8 B), material and flags (2 B), the two CSR offsets (8 B); no radius or inverse mass
-  // of its own (one value for all) and no force array (pending forces wait in a front of a
-  // few blocks: a ring of 32 blocks per thread and the slots of blocks further ahead). Per
-  // bond its partner, state byte and shear history (one 32-bit component in 2D, 3 in 3D,
-  // while no bond is broken; none with normal springs only, ks = 0, whose shear force is zero
+  // A lattice of one material: per particle x, v and x0 (3·D doubles), id and group set
+  // (8 B), material and flags (2 B), the two CSR offsets (8 B); no radius or inverse mass of
+  // its own (one value for all) and no force array (pending forces wait in a front of a few
+  // blocks: a ring of 32 blocks per thread and the slots of blocks further ahead). Per bond
+  // its partner, state byte and shear history (one 32-bit component in 2D, 3 in 3D, while no
+  // bond is broken; none with normal springs only, ks = 0, whose shear force is zero
   // whatever the history); the bond pass finds each bond's owner from the offsets, or, with
   // normal springs only, from an owner byte per bond. Both lattices, numbered row by row
   // (and layer by layer), hold their bonds in lattice slots: a byte per disk (two per
   // sphere) saying which directions it owns, and a ring of each direction's forces and
-  // energies (D + 1 doubles each, entries: the next power of two at or above the
-  // direction's offset plus a block): 2D rows of 100 disks, 3 directions of 512 entries; 3D layers of 429
-  // spheres, 8 directions, partners p + 1, p + 19 and p + 20 (512 entries) and five a layer ahead (1024).
-  // Their state is copied in when a step takes them, into 3 columns in 2D and 6 in 3D (directions no particle
-  // owns two of share one), and the bonds' own arrays of it and of their partners (which the masks and
-  // offsets say) are let go while the model steps.
+  // energies (D + 1 doubles each, entries: the next power of two at or above the direction's
+  // offset plus a block): 2D rows of 100 disks, 3 directions of 512 entries; 3D layers of
+  // 429 spheres, 8 directions, partners p + 1, p + 19 and p + 20 (512 entries) and five a
+  // layer ahead (1024). Their state is copied in when a step takes them, into 3 columns in
+  // 2D and 6 in 3D (directions no particle owns two of share one), and the bonds' own arrays
+  // of it and of their partners (which the masks and offsets say) are let go while the model
+  // steps.
   for (const int dim : {2, 3})
     for (const bool central : {false, true}) {  // central: ks = 0, and no shear history is kept
       Settings s;
