@@ -336,8 +336,8 @@ class Model final : public ModelBase, public ModelData<D> {
   double start_skin() const { return settings.skin > 0 ? settings.skin : 0.5 * rad.max(); }
   int effective_threads(int nt) const;
   /// The first particle of each thread's range (nt + 1 entries): whole blocks, each range
-  /// about equal work (thread plan).
-  std::vector<std::ptrdiff_t> thread_ranges(int nt) const;
+  /// about equal work, a cross pair counted as cross_cost bonds (thread plan).
+  std::vector<std::ptrdiff_t> thread_ranges(int nt, double cross_cost) const;
   void build_plan(int nt);
 
   // ---- boundary conditions and driven particles (boundary.cpp) ---------------------------

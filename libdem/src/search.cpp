@@ -305,17 +305,16 @@ int thread_holding(const std::vector<std::ptrdiff_t>& begin, std::ptrdiff_t i) {
 }  // namespace
 
 template <int D>
-std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
+std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt, double cross_cost) const {
   const std::ptrdiff_t N = static_cast<std::ptrdiff_t>(n());
   const std::ptrdiff_t nb = (N + kBlock - 1) / kBlock;
   std::vector<std::ptrdiff_t> begin(nt + 1);
   for (int t = 0; t <= nt; ++t) begin[t] = std::min(N, nb * t / nt * kBlock);
   if (nt == 1) return begin;
   // The work of a block: its particles' updates and its pairs, alike each (in units of a bond
-  // through the batch form). A cross pair takes the reference kernel and a slot, about
-  // kCrossCost such units (phase A), on the thread of its partner; with the ranges of equal
-  // blocks the later threads would compute them on top of an equal share.
-  constexpr double kCrossCost = 3.0;
+  // through the batch form). A cross pair costs cross_cost such units (phase A) on the thread
+  // of its partner; with the ranges of equal blocks the later threads would compute them on
+  // top of an equal share.
   std::vector<double> sum(static_cast<std::size_t>(nb) + 1, 0.0);  // the work of blocks 0..b-1
   for (std::ptrdiff_t blk = 0; blk < nb; ++blk) {
     const std::ptrdiff_t p0 = blk * kBlock, pe = std::min(N, p0 + kBlock);
@@ -331,12 +330,12 @@ std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int nt) const {
           cross[thread_holding(begin, L->j[k])] += 1;
   }
   double total = sum[nb];
-  for (const double x : cross) total += kCrossCost * x;
+  for (const double x : cross) total += cross_cost * x;
   // each thread's blocks: an equal share of the work, less the cross pairs it computes
   double share = 0;
   std::ptrdiff_t prev = 0;
   for (int t = 0; t + 1 < nt; ++t) {
-    share += total / nt - kCrossCost * cross[t];
+    share += total / nt - cross_cost * cross[t];
     std::ptrdiff_t b = std::lower_bound(sum.begin(), sum.end(), share) - sum.begin();
     if (b > nb || (b > 0 && share - sum[b - 1] < sum[b] - share)) --b;
     b = std::clamp(b, prev, nb);
@@ -426,7 +425,11 @@ void Model<D>::build_plan(int nt) {
   nt = effective_threads(nt);
   plan = Plan{};
   plan.nt = nt;
-  plan.begin = thread_ranges(nt);
+  // a cross pair through the reference kernel and a slot costs about three bonds of the batch
+  // form; in lattice slots (one batch bond and two copies) about one and a half
+  std::vector<std::uint32_t> offs;
+  const bool slotted = contacts.size() == 0 && bonds.r0.empty() && slot_offsets<D>(bonds, N, offs);
+  plan.begin = thread_ranges(nt, slotted ? 1.5 : 3.0);
   plan.in.assign(nt, {});
   plan.base_b.assign(nt + 1, 0);
   plan.base_c.assign(nt + 1, 0);
@@ -512,7 +515,7 @@ void Model<D>::build_plan(int nt) {
   template void Model<D>::build_plan(int);                                                                \
   template LatticeSlots<D> lattice_slots<D>(const PairList&, std::size_t, int);                           \
   template bool slot_offsets<D>(const PairList&, std::size_t, std::vector<std::uint32_t>&);               \
-  template std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int) const;
+  template std::vector<std::ptrdiff_t> Model<D>::thread_ranges(int, double) const;
 STRATA_DEM_INSTANTIATE(2)
 STRATA_DEM_INSTANTIATE(3)
 #undef STRATA_DEM_INSTANTIATE

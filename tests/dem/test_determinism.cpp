@@ -175,7 +175,9 @@ static void slots_match_general(const preprocess::Lattice& lat, int threads, std
 TEST(Determinism, SlotsOnRangesShorterThanARow) {
   // Rows of 700 disks on eight threads: most threads' ranges (two blocks of 256 disks) are
   // shorter than a row, so a bond's partner may lie two ranges past its owner's.
-  // In lattice slots the partner's thread still computes it in phase A; the bits are those
+  // In lattice slots the partner's thread still computes it in phase A (bond by bond, by
+  // the reference kernel: ranges this short leave the bond pass to longer ones, which the
+  // 2- and 3-thread runs above take through their breaks); the bits are those
   // of the general path on one thread, through the first breaks (the run leaves the slots
   // once disks that were never bonded touch: contacts).
   slots_match_general(preprocess::hex2d_rows(6, 700, kRockD), 8, 400, 300);

@@ -287,11 +287,16 @@ class Engine final : public LawEngine<D> {
 
   // Phase A: the cross pairs whose partner lies in this thread's range (their owners lie in
   // earlier threads' ranges, which do not move them before this thread's count says so).
-  // With kSlots (the model in lattice slots, no contacts) each is a bond whose state the
-  // slots hold, where the reference kernel takes it; its force and energy also go to this
-  // thread's ring, where its partner pulls them.
+  // With kSlots (the model in lattice slots, no contacts) they are bonds whose state the
+  // slots hold, computed by phase_a_slots.
   template <bool kEnergy, bool kSlots = false>
   void phase_a(ModelData<D>& m, int t, const StepCtx& c) const {
+    if constexpr (kSlots) {
+      if (slots_cross_in_batch(m, t)) {
+        phase_a_slots<kEnergy>(m, t, c);
+        return;
+      }
+    }
     const double* X[D];
     const double* V[D];
     for (int a = 0; a < D; ++a) {
@@ -331,6 +336,47 @@ class Engine final : public LawEngine<D> {
       out[D] = e;
       count.store(++n, std::memory_order_release);
     }
+  }
+
+  /// Whether thread t's cross bonds in lattice slots may go through the bond pass
+  /// (phase_a_slots): its range and the one before are each longer than the longest partner
+  /// offset and a block. Their owners then lie in the range before, whose thread waits for
+  /// this one at their blocks, and none of them bonds into a later range, so no other
+  /// thread's phase A reads or writes their state. Otherwise (short ranges: a small model on
+  /// many threads) the reference kernel takes them one by one, as the plan lists them.
+  static bool slots_cross_in_batch(const ModelData<D>& m, int t) {
+    const std::vector<std::ptrdiff_t>& b = m.plan.begin;
+    const std::ptrdiff_t need = std::ptrdiff_t{m.slots.off[m.slots.n - 1]} + kBlock;
+    return t > 0 && b[t] - b[t - 1] >= need && b[t + 1] - b[t] >= need;
+  }
+
+  // Phase A in lattice slots: the cross bonds into this thread's range [lo, e) go through
+  // the bond pass of the blocks that own them (bond_block_slots from lo), into this
+  // thread's ring, where their partners pull them; then into their slots of cross_b, where
+  // the owners' thread takes them (slots_cross_in). The count says all of them at once.
+  template <bool kEnergy>
+  void phase_a_slots(ModelData<D>& m, int t, const StepCtx& c) const {
+    const std::vector<CrossPair>& calc = m.plan.calc[t];
+    if (calc.empty()) return;
+    LatticeSlots<D>& L = m.slots;
+    const std::ptrdiff_t lo = m.plan.begin[t], e = m.plan.begin[t + 1];
+    const std::ptrdiff_t from = std::max<std::ptrdiff_t>(0, lo - L.off[L.n - 1]);
+    for (std::ptrdiff_t blk = from / kBlock; blk * kBlock < lo; ++blk) {
+      const std::ptrdiff_t p0 = blk * kBlock, pe = std::min(lo, p0 + kBlock);
+      if (m.uniform_diameter > 0)
+        bond_block_slots<kEnergy, kUniform>(m, t, c, p0, pe, e, lo);
+      else
+        bond_block_slots<kEnergy, kRadiusSum>(m, t, c, p0, pe, e, lo);
+    }
+    for (const CrossPair& x : calc) {
+      const int d = L.direction(m.bonds.off[x.owner], L.mask[x.owner], x.pair);
+      const std::size_t r = L.slot(d, x.owner);
+      double* out = &m.cross_b[std::size_t{x.slot} * (D + 1)];
+      for (int a = 0; a < D; ++a) out[a] = L.force(t, d, a)[r];
+      out[D] = L.energy(t, d)[r];
+    }
+    m.plan.counter(t).store(m.plan.counted_before_step(t) + static_cast<std::int64_t>(calc.size()),
+                            std::memory_order_release);
   }
 
   /// Waits until the threads that compute the cross pairs owned in block blk of thread t's
@@ -485,13 +531,15 @@ class Engine final : public LawEngine<D> {
   static_assert(LatticeSlots<D>::kGap >= kRunLanes, "a run's early start stays in the gap before it");
 
   // The bond pass of one block in lattice slots (LatticeSlots): direction by direction, the
-  // entries of the block's owners whose partner lies in this thread's range (j < e; the
-  // others are phase A's of a later thread) go through bond_chunks with kInSlots; forces and
-  // energies land in the thread's ring. The bonds the batch form leaves are then redone by
-  // the reference kernel in bond order, as bond_block does, on their state in the slots.
+  // entries of the block's owners whose partner lies in [lo, e) go through bond_chunks with
+  // kInSlots; forces and energies land in the thread's ring. In phase B the partners are
+  // those of this thread's range before e (lo = 0: the others are phase A's of a later
+  // thread); in phase A, with lo its range's start, the cross bonds into it. The bonds the
+  // batch form leaves are then redone by the reference kernel in bond order, as bond_block
+  // does, on their state in the slots.
   template <bool kEnergy, Rest kRest>
   void bond_block_slots(ModelData<D>& m, int t, const StepCtx& c, std::ptrdiff_t p0, std::ptrdiff_t pe,
-                        std::ptrdiff_t e) const {
+                        std::ptrdiff_t e, std::ptrdiff_t lo = 0) const {
     LatticeSlots<D>& L = m.slots;
     Scratch<D>& S = m.scratch[t];
     const std::size_t nb = static_cast<std::size_t>(pe - p0);
@@ -503,9 +551,10 @@ class Engine final : public LawEngine<D> {
     static double no_wide[kNs] = {};
     const std::ptrdiff_t n = static_cast<std::ptrdiff_t>(m.n());
     for (int d = 0; d < L.n; ++d) {
-      const std::ptrdiff_t pb =
-          std::min<std::ptrdiff_t>(pe, e - L.off[d]);  // owners whose partner is in range
-      if (pb <= p0) continue;
+      // owners from pl to pb have their partner in range
+      const std::ptrdiff_t pb = std::min<std::ptrdiff_t>(pe, e - L.off[d]);
+      const std::ptrdiff_t pl = std::max<std::ptrdiff_t>(p0, lo - L.off[d]);
+      if (pb <= pl) continue;
       const std::size_t r0 = L.slot(d, static_cast<std::size_t>(p0));
       const std::size_t len = static_cast<std::size_t>(pb - p0);
       const std::size_t s0 = L.entry(d, static_cast<std::size_t>(p0), m.n());
@@ -551,28 +600,40 @@ class Engine final : public LawEngine<D> {
       // between them are not computed, as a stand-in's would be dropped
       const std::uint32_t* rb = L.run.data() + L.run_at[d];
       const std::uint32_t* rend = L.run.data() + L.run_at[d + 1];
-      const auto ua = static_cast<std::uint32_t>(p0), ub = static_cast<std::uint32_t>(pb);
-      // the first run that ends past p0: ends are the odd entries, ascending
-      std::ptrdiff_t lo = 0, hi = (rend - rb) / 2;
-      while (lo < hi) {
-        const std::ptrdiff_t mid = (lo + hi) / 2;
-        if (rb[2 * mid + 1] <= ua)
-          lo = mid + 1;
+      const auto ua = static_cast<std::uint32_t>(p0), ul = static_cast<std::uint32_t>(pl),
+                 ub = static_cast<std::uint32_t>(pb);
+      // the first run that ends past pl: ends are the odd entries, ascending
+      std::ptrdiff_t first = 0, hi = (rend - rb) / 2;
+      while (first < hi) {
+        const std::ptrdiff_t mid = (first + hi) / 2;
+        if (rb[2 * mid + 1] <= ul)
+          first = mid + 1;
         else
           hi = mid;
       }
-      std::uint32_t done = 0;  // the entries up to the end of the last run
-      for (const std::uint32_t* rr = rb + 2 * lo; rr < rend && rr[0] < ub; rr += 2) {
-        std::uint32_t qa = std::max(rr[0], ua) - ua;
-        const std::uint32_t qb = std::min(rr[1], ub) - ua;
-        // a whole number of vectors: the run starts up to kRunLanes - 1 entries early, in
-        // the gap before it (owners without the bond: stand-ins, dropped), where it has one;
-        // the compiler's shorter loops for the last few entries run at a fraction of the rate
-        const std::uint32_t pad = (kRunLanes - (qb - qa) % kRunLanes) % kRunLanes;
-        qa = std::max(done, qa >= pad ? qa - pad : 0u);
+      std::uint32_t done = ul - ua;  // the entries up to the end of the last run
+      const bool cross = lo > 0;
+      if (cross) std::fill_n(sslow, len, std::uint8_t{0});  // verdicts of the entries left out
+      for (const std::uint32_t* rr = rb + 2 * first; rr < rend && rr[0] < ub; rr += 2) {
+        std::uint32_t qa = std::max(rr[0], ul) - ua;
+        std::uint32_t qb = std::min(rr[1], ub) - ua;
+        if (cross) {
+          // phase A: from the first owner with the bond to the last, so that every entry lies
+          // in a block whose thread waits for this one (phase_a_slots); no early start
+          while (qa < qb && !(L.mask[p0 + qa] >> d & 1u)) ++qa;
+          while (qb > qa && !(L.mask[p0 + qb - 1] >> d & 1u)) --qb;
+          if (qa == qb) continue;
+        } else {
+          // a whole number of vectors: the run starts up to kRunLanes - 1 entries early, in
+          // the gap before it (owners without the bond: stand-ins, dropped), where it has
+          // one; the compiler's shorter loops for the last few entries run at a fraction of
+          // the rate
+          const std::uint32_t pad = (kRunLanes - (qb - qa) % kRunLanes) % kRunLanes;
+          qa = std::max(done, qa >= pad ? qa - pad : 0u);
+          if (rr == rb + 2 * first && (qa > 0 || qb < len))
+            std::fill_n(sslow, len, std::uint8_t{0});  // verdicts of the entries left out
+        }
         done = qb;
-        if (rr == rb + 2 * lo && (qa > 0 || qb < len))
-          std::fill_n(sslow, len, std::uint8_t{0});  // verdicts of the entries left out
         bond_chunks<D, Law, kEnergy, kRest, true>(sp, laws[0], c.dt, m.uniform_diameter, qb, qa);
       }
       if (any_slow) [[unlikely]]
