@@ -426,9 +426,11 @@ void Model<D>::build_plan(int nt) {
   plan = Plan{};
   plan.nt = nt;
   // a cross pair through the reference kernel and a slot costs about three bonds of the batch
-  // form; in lattice slots (one batch bond and two copies) about one and a half
+  // form; in lattice slots (one batch bond and two copies; the step kernel's conditions for
+  // them) about one and a half
   std::vector<std::uint32_t> offs;
-  const bool slotted = contacts.size() == 0 && bonds.r0.empty() && slot_offsets<D>(bonds, N, offs);
+  const bool slotted = settings.lattice_slots && materials.size() == 1 && contacts.size() == 0 &&
+                       bonds.r0.empty() && slot_offsets<D>(bonds, N, offs);
   plan.begin = thread_ranges(nt, slotted ? 1.5 : 3.0);
   plan.in.assign(nt, {});
   plan.base_b.assign(nt + 1, 0);
