@@ -288,7 +288,9 @@ class Engine final : public LawEngine<D> {
   // Phase A: the cross pairs whose partner lies in this thread's range (their owners lie in
   // earlier threads' ranges, which do not move them before this thread's count says so).
   // With kSlots (the model in lattice slots, no contacts) they are bonds whose state the
-  // slots hold, computed by phase_a_slots.
+  // slots hold: phase_a_slots takes them through the bond pass where the ranges allow it
+  // (slots_cross_in_batch); else the reference kernel takes each here, and its force and
+  // energy also go to this thread's ring, where its partner pulls them.
   template <bool kEnergy, bool kSlots = false>
   void phase_a(ModelData<D>& m, int t, const StepCtx& c) const {
     if constexpr (kSlots) {
