@@ -425,12 +425,12 @@ void Model<D>::build_plan(int nt) {
   nt = effective_threads(nt);
   plan = Plan{};
   plan.nt = nt;
+  slots = LatticeSlots<D>{};
+  if (bonds.r0.empty()) slots = lattice_slots<D>(bonds, N, nt);
   // a cross pair through the reference kernel and a slot costs about three bonds of the batch
   // form; in lattice slots (one batch bond and two copies; the step kernel's conditions for
   // them) about one and a half
-  std::vector<std::uint32_t> offs;
-  const bool slotted = settings.lattice_slots && materials.size() == 1 && contacts.size() == 0 &&
-                       bonds.r0.empty() && slot_offsets<D>(bonds, N, offs);
+  const bool slotted = slots.n > 0 && settings.lattice_slots && materials.size() == 1 && contacts.size() == 0;
   plan.begin = thread_ranges(nt, slotted ? 1.5 : 3.0);
   plan.in.assign(nt, {});
   plan.base_b.assign(nt + 1, 0);
@@ -488,8 +488,6 @@ void Model<D>::build_plan(int nt) {
       });
   }
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
-  slots = LatticeSlots<D>{};
-  if (bonds.r0.empty()) slots = lattice_slots<D>(bonds, N, nt);
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
     bond_owner.resize(bonds.size());
