@@ -428,9 +428,8 @@ void Model<D>::build_plan(int nt) {
   slots = LatticeSlots<D>{};
   if (bonds.r0.empty()) slots = lattice_slots<D>(bonds, N, nt);
   // a cross pair through the reference kernel and a slot costs about three bonds of the batch
-  // form; in lattice slots (one batch bond and two copies; the step kernel's conditions for
-  // them) about one and a half
-  const bool slotted = slots.n > 0 && settings.lattice_slots && materials.size() == 1 && contacts.size() == 0;
+  // form; in lattice slots (one batch bond and two copies) about one and a half
+  const bool slotted = engine && engine->steps_in_slots(*this, settings.lattice_slots);
   plan.begin = thread_ranges(nt, slotted ? 1.5 : 3.0);
   plan.in.assign(nt, {});
   plan.base_b.assign(nt + 1, 0);

@@ -34,6 +34,9 @@ class LawEngine {
   /// friction or a strength factor (m; the law's intact_shear_reach(), Fs0/Ks for the
   /// solid-lattice law), or 0 where no law says (or none is finite).
   virtual double shear_reach() const = 0;
+  /// Whether a step of m runs in lattice slots when the settings allow them (allowed):
+  /// what step() decides, and what the thread plan sizes the ranges for.
+  virtual bool steps_in_slots(const ModelData<D>& m, bool allowed) const = 0;
   /// One step of the whole model: all pair forces, walls, boundary conditions, the update.
   virtual void step(ModelData<D>& m, const StepCtx& c, bool energy) = 0;
   /// Stored energy of all pairs and walls at the current state, with the increment v·dt the

@@ -56,7 +56,7 @@ class Engine final : public LawEngine<D> {
   }
 
   void step(ModelData<D>& m, const StepCtx& c, bool energy) override {
-    const bool in_slots = slots_apply(m, c);
+    const bool in_slots = steps_in_slots(m, c.slots);
     if (in_slots) {
       if (!m.slots.held) m.slots_take_state();
       m.slots_let_go();
@@ -71,11 +71,11 @@ class Engine final : public LawEngine<D> {
     if (in_slots) ++m.slots_steps;
   }
 
-  /// Whether this step runs in lattice slots: a law with a batch form, one material, the
-  /// model held in slots (for the plan's threads) and no contacts now (their forces would
-  /// come between the bonds' in each particle's sum).
-  bool slots_apply(const ModelData<D>& m, const StepCtx& c) const {
-    return kSlotsBuilt && c.slots && m.slots.n > 0 && m.slots.threads == m.plan.nt &&
+  /// Whether a step runs in lattice slots: allowed by the settings, a law with a batch form,
+  /// one material, the model held in slots (for the plan's threads) and no contacts now
+  /// (their forces would come between the bonds' in each particle's sum).
+  bool steps_in_slots(const ModelData<D>& m, bool allowed) const override {
+    return kSlotsBuilt && allowed && m.slots.n > 0 && m.slots.threads == m.plan.nt &&
            m.contacts.size() == 0 && nmat == 1;
   }
 
