@@ -56,7 +56,7 @@ std::string bench_dem_json(const BenchDemOptions& o) {
   dem::Simulation sim(o.dim, s);
   const int mat = sim.add_material(m);
   sim.reserve(lat.size());
-  for (const auto& p : lat.x) sim.add_particle(p, lat.radius, mat);
+  sim.add_particles(lat.x, lat.radius, mat);
   const std::size_t n = lat.size();
   lat.release();
   ph.lap("particles added");

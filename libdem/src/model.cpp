@@ -33,13 +33,6 @@ std::uint64_t spread_bits3(std::uint64_t v) {  // 21 bits -> every third bit of 
   return v;
 }
 
-template <typename T>
-void permute(std::vector<T>& a, const std::vector<std::uint32_t>& perm) {
-  std::vector<T> tmp(a.size());
-  for (std::size_t i = 0; i < perm.size(); ++i) tmp[i] = a[perm[i]];
-  a.swap(tmp);
-}
-
 }  // namespace
 
 template <int D>
@@ -52,19 +45,28 @@ void Model<D>::reserve(std::size_t cap) {
   grp.reserve(cap);
   mat.reserve(cap);
   flags.reserve(cap);
+  bonds.off.reserve(cap + 1);
+  contacts.off.reserve(cap + 1);
+}
+
+// The mass of a new particle of radius r and material m (the lattice cell's mass for
+// mass <= 0), checked with the radius and the material.
+template <int D>
+double Model<D>::checked_mass(double r, int m, double mass) const {
+  STRATA_CHECK(m >= 0 && m < static_cast<int>(materials.size()), Input,
+               "add_particle: material {} does not exist ({} defined)", m, materials.size());
+  STRATA_CHECK(r > 0 && std::isfinite(r), Input, "add_particle: radius {} must be > 0 (m)", r);
+  STRATA_CHECK(materials.size() <= 255, Input, "at most 255 materials");
+  if (mass <= 0) mass = lattice_particle_mass(D, materials[m].density, 2 * r);
+  STRATA_CHECK(mass > 0 && std::isfinite(mass), Input,
+               "add_particle: mass {} must be > 0 (kg); is the material's density set?", mass);
+  return mass;
 }
 
 template <int D>
 std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, double mass) {
-  STRATA_CHECK(m >= 0 && m < static_cast<int>(materials.size()), Input,
-               "add_particle: material {} does not exist ({} defined)", m, materials.size());
-  STRATA_CHECK(r > 0 && std::isfinite(r), Input, "add_particle: radius {} must be > 0 (m)", r);
+  mass = checked_mass(r, m, mass);
   STRATA_CHECK(n() < 0xfffffff0u, Input, "add_particle: too many particles (uint32 indices)");
-  STRATA_CHECK(materials.size() <= 255, Input, "at most 255 materials");
-  const double d = 2 * r;
-  if (mass <= 0) mass = lattice_particle_mass(D, materials[m].density, d);
-  STRATA_CHECK(mass > 0 && std::isfinite(mass), Input,
-               "add_particle: mass {} must be > 0 (kg); is the material's density set?", mass);
   slots_release();  // the slots are laid out over the particles there are
   for (int a = 0; a < D; ++a) {
     x[a].push_back(p[a]);
@@ -90,6 +92,41 @@ std::size_t Model<D>::add_particle(std::array<double, 3> p, double r, int m, dou
   }
   sorted = sorted && initialised;  // appended at the end; no re-sort once running
   return ident;
+}
+
+// Particles at p (all of radius r and material m) at once, as add_particle one by one (the
+// same arrays, the same bits), the arrays filled in parallel.
+template <int D>
+std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>& p, double r, int m,
+                                    double mass) {
+  const std::size_t first = n(), count = p.size();
+  if (initialised || count == 0) {  // a running model: one by one, with its extra arrays
+    for (const auto& q : p) add_particle(q, r, m, mass);
+    return first;
+  }
+  mass = checked_mass(r, m, mass);
+  STRATA_CHECK(first + count <= 0xfffffff0u, Input, "add_particle: too many particles (uint32 indices)");
+  slots_release();
+  if (nmat != static_cast<int>(materials.size())) refresh_laws();
+  const std::size_t n1 = first + count;
+  for (int a = 0; a < D; ++a) {
+    x[a].resize(n1);
+    v[a].resize(n1, 0.0);
+  }
+  id.resize(n1);
+  grp.resize(n1, 0);
+  mat.resize(n1, static_cast<std::uint8_t>(m));
+  flags.resize(n1, 0);
+  im.append(count, 1.0 / mass);
+  rad.append(count, r);
+  bonds.off.resize(bonds.off.size() + count, static_cast<std::uint32_t>(bonds.size()));
+  contacts.off.resize(contacts.off.size() + count, static_cast<std::uint32_t>(contacts.size()));
+  for_range(static_cast<std::ptrdiff_t>(count), [&](std::ptrdiff_t i) {
+    for (int a = 0; a < D; ++a) x[a][first + i] = p[i][a];
+    id[first + i] = static_cast<std::uint32_t>(first + i);
+  });
+  sorted = false;
+  return first;
 }
 
 // Inverse of id[]: internal index of each id.
@@ -162,21 +199,29 @@ void Model<D>::sort_particles(bool rows_allowed) {
   for (int a = 0; a < D; ++a) ext = std::max(ext, hi[a] - lo[a]);
   if (ext <= 0) ext = 1;
   const double bits = D == 2 ? 4294967295.0 : 2097151.0;
-  std::vector<std::uint64_t> code(N);
+  // (code, index) pairs: the index breaks ties, so the order is total and the same for any
+  // thread count; the key sits beside its index, not behind it.
+  struct Keyed {
+    std::uint64_t code;
+    std::uint32_t i;
+  };
+  std::vector<Keyed> key(N);
   for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) {
     std::uint64_t c = 0;
     for (int a = 0; a < D; ++a) {
       const auto q = static_cast<std::uint64_t>((x[a][i] - lo[a]) / ext * bits);
       c |= (D == 2 ? spread_bits2(q) : spread_bits3(q)) << a;
     }
-    code[i] = c;
+    key[static_cast<std::size_t>(i)] = {c, static_cast<std::uint32_t>(i)};
   });
+  auto before = [](const Keyed& p, const Keyed& q) { return p.code != q.code ? p.code < q.code : p.i < q.i; };
+  if (small_model())
+    std::sort(key.begin(), key.end(), before);
+  else
+    par::sort(key.begin(), key.end(), before);
   std::vector<std::uint32_t> perm(N);
-  std::iota(perm.begin(), perm.end(), 0u);
-  std::sort(perm.begin(), perm.end(),
-            [&](std::uint32_t p, std::uint32_t q) { return code[p] != code[q] ? code[p] < code[q] : p < q; });
-  code.clear();
-  code.shrink_to_fit();
+  for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) { perm[i] = key[i].i; });
+  key = {};
   reorder(perm);
 }
 
@@ -237,16 +282,28 @@ void Model<D>::reorder(const std::vector<std::uint32_t>& perm) {
         }
       }
   }
+  // a[i] = a[perm[i]], gathered in parallel into `spare`, which then holds the array replaced
+  // (the next gather's target: the arrays of one type share one new allocation)
+  auto permute = [&](auto& a, auto& spare) {
+    spare.resize(a.size());
+    for_range(static_cast<std::ptrdiff_t>(perm.size()), [&](std::ptrdiff_t i) { spare[i] = a[perm[i]]; });
+    a.swap(spare);
+  };
+  std::vector<double> spare;
   for (int a = 0; a < D; ++a) {
-    permute(x[a], perm);
-    permute(v[a], perm);
+    permute(x[a], spare);
+    permute(v[a], spare);
   }
+  spare = {};
   im.permute(perm);
   rad.permute(perm);
-  permute(id, perm);
-  permute(grp, perm);
-  permute(mat, perm);
-  permute(flags, perm);
+  std::vector<std::uint32_t> spare32;
+  permute(id, spare32);
+  permute(grp, spare32);
+  spare32 = {};
+  std::vector<std::uint8_t> spare8;
+  permute(mat, spare8);
+  permute(flags, spare8);
   inv_cache.clear();
   if (!pairs.empty()) {
     for (auto& p : pairs)
@@ -438,6 +495,9 @@ template std::unique_ptr<ModelBase> make_model<3>(const Settings&);
 #define STRATA_DEM_INSTANTIATE(D)                                                                       \
   template void Model<D>::reserve(std::size_t);                                                         \
   template std::size_t Model<D>::add_particle(std::array<double, 3>, double, int, double);              \
+  template std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>&, double, int,  \
+                                               double);                                                 \
+  template double Model<D>::checked_mass(double, int, double) const;                                    \
   template std::vector<std::uint32_t> Model<D>::index_of_id() const;                                    \
   template std::size_t Model<D>::index_of(std::size_t, const char*) const;                              \
   template void Model<D>::set_velocity(std::size_t, std::array<double, 3>);                             \

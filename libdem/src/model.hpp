@@ -118,6 +118,8 @@ class ModelBase {
   virtual int dim() const = 0;
   virtual void reserve(std::size_t n) = 0;
   virtual std::size_t add_particle(std::array<double, 3> x, double r, int mat, double mass) = 0;
+  virtual std::size_t add_particles(const std::vector<std::array<double, 3>>& x, double r, int mat,
+                                    double mass) = 0;
   virtual std::size_t particle_count() const = 0;
   virtual void bond_touching_pairs(double tol) = 0;
   virtual void set_bonds(const std::vector<std::uint32_t>& i, const std::vector<std::uint32_t>& j,
@@ -282,6 +284,9 @@ class Model final : public ModelBase, public ModelData<D> {
   // ---- storage and spatial order (model.cpp) ---------------------------------------------
   void reserve(std::size_t cap) override;
   std::size_t add_particle(std::array<double, 3> p, double r, int m, double mass) override;
+  std::size_t add_particles(const std::vector<std::array<double, 3>>& p, double r, int m,
+                            double mass) override;
+  double checked_mass(double r, int m, double mass) const;
   std::size_t particle_count() const override { return n(); }
   std::vector<std::uint32_t> index_of_id() const;
   std::size_t index_of(std::size_t ident, const char* what) const;
@@ -312,13 +317,16 @@ class Model final : public ModelBase, public ModelData<D> {
     double lo[3]{}, h = 1;
     std::int64_t dims[3]{1, 1, 1};
     std::vector<std::uint32_t> start, list;
+    /// Position and radius of each listed particle, in list order: the candidates of a row of
+    /// cells are read in one sweep.
+    std::unique_ptr<std::array<double, D + 1>[]> at;
     std::int64_t cell_of(const double* p) const;
   };
   Grid build_grid(double h) const;
   template <typename Fn>
   void for_neighbours(const Grid& g, std::size_t p, Fn&& fn) const;
-  template <typename Accept>
-  PairList build_pairs(const Grid& g, Accept&& accept) const;
+  template <int kLists, typename Classify>
+  std::array<PairList, kLists> build_pairs(const Grid& g, Classify&& classify) const;
   void bond_touching_pairs(double tol) override;
   void set_bonds(const std::vector<std::uint32_t>& bi, const std::vector<std::uint32_t>& bj,
                  const std::vector<double>& factor, const std::vector<double>& strength) override;

@@ -59,61 +59,86 @@ typename Model<D>::Grid Model<D>::build_grid(double h) const {
   g.list.resize(N);
   std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
   for (std::size_t i = 0; i < N; ++i) g.list[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
+  g.at.reset(new std::array<double, D + 1>[N]);  // first written (and paged in) in parallel
+  for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t k) {
+    const std::uint32_t i = g.list[k];
+    for (int a = 0; a < D; ++a) g.at[k][a] = x[a][i];
+    g.at[k][D] = rad[i];
+  });
   return g;
 }
 
-// Calls fn(q) for every particle q > p in the cells around p.
+// Calls fn(q, d2, rq) for every particle q > p in the cells around p, with d2 = dist2(p, q)
+// (the same bits) and rq the radius of q. The cells of one row lie side by side in the grid's
+// list: one sweep each.
 template <int D>
 template <typename Fn>
 void Model<D>::for_neighbours(const Grid& g, std::size_t p, Fn&& fn) const {
+  double xp[D];
   std::int64_t c[3] = {0, 0, 0};
-  for (int a = 0; a < D; ++a)
-    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[a][p] - g.lo[a]) / g.h), 0, g.dims[a] - 1);
+  for (int a = 0; a < D; ++a) {
+    xp[a] = x[a][p];
+    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>((xp[a] - g.lo[a]) / g.h), 0, g.dims[a] - 1);
+  }
+  const std::int64_t x0 = std::max<std::int64_t>(c[0] - 1, 0), x1 = std::min(c[0] + 1, g.dims[0] - 1);
   const int rz = D == 3 ? 1 : 0;
   for (int dz = -rz; dz <= rz; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const std::int64_t q[3] = {c[0] + dx, c[1] + dy, c[2] + dz};
-        bool ok = true;
-        for (int a = 0; a < D; ++a) ok = ok && q[a] >= 0 && q[a] < g.dims[a];
-        if (!ok) continue;
-        const std::int64_t cell = q[0] + g.dims[0] * (q[1] + (D == 3 ? g.dims[1] * q[2] : 0));
-        for (std::uint32_t k = g.start[cell]; k < g.start[cell + 1]; ++k) {
-          const std::uint32_t o = g.list[k];
-          if (o > p) fn(o);
+    for (int dy = -1; dy <= 1; ++dy) {
+      const std::int64_t qy = c[1] + dy, qz = c[2] + dz;
+      if (qy < 0 || qy >= g.dims[1] || (D == 3 && (qz < 0 || qz >= g.dims[2]))) continue;
+      const std::int64_t row = g.dims[0] * (qy + (D == 3 ? g.dims[1] * qz : 0));
+      for (std::uint32_t k = g.start[row + x0]; k < g.start[row + x1 + 1]; ++k) {
+        const std::uint32_t o = g.list[k];
+        if (o <= p) continue;
+        const std::array<double, D + 1>& s = g.at[k];
+        double d2 = 0;
+        for (int a = 0; a < D; ++a) {
+          const double d = s[a] - xp[a];
+          d2 += d * d;
         }
+        fn(o, d2, s[D]);
       }
+    }
 }
 
-// Builds a CSR pair list of owners p with partners q > p passing accept(p, q), in
-// parallel and deterministically (rows sorted by partner).
+// Builds kLists CSR pair lists of owners p with partners q > p, in parallel and
+// deterministically (rows sorted by partner): classify(p, q, d2, rq) puts each neighbour q in
+// list l - 1 for l in [1, kLists], or in none for 0.
 template <int D>
-template <typename Accept>
-PairList Model<D>::build_pairs(const Grid& g, Accept&& accept) const {
+template <int kLists, typename Classify>
+std::array<PairList, kLists> Model<D>::build_pairs(const Grid& g, Classify&& classify) const {
   // One search: each chunk of particles lists its pairs apart, and the lists are joined in
   // chunk order.
   constexpr std::size_t kChunk = 1024;
   const std::size_t N = n(), nc = (N + kChunk - 1) / kChunk;
-  PairList L;
-  L.off.assign(N + 1, 0);
-  std::vector<std::vector<std::uint32_t>> part(nc);
+  std::array<PairList, kLists> L;
+  for (PairList& l : L) l.off.assign(N + 1, 0);
+  std::vector<std::array<std::vector<std::uint32_t>, kLists>> part(nc);
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     auto& out = part[static_cast<std::size_t>(c)];
     for (std::size_t p = static_cast<std::size_t>(c) * kChunk; p < std::min(N, (c + 1) * kChunk); ++p) {
-      const std::size_t first = out.size();
-      for_neighbours(g, p, [&](std::uint32_t q) {
-        if (accept(p, q)) out.push_back(q);
+      std::size_t first[kLists];
+      for (int l = 0; l < kLists; ++l) first[l] = out[l].size();
+      for_neighbours(g, p, [&](std::uint32_t q, double d2, double rq) {
+        const int l = classify(p, q, d2, rq);
+        if (l > 0) out[l - 1].push_back(q);
       });
-      std::sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end());
-      L.off[p + 1] = static_cast<std::uint32_t>(out.size() - first);
+      for (int l = 0; l < kLists; ++l) {
+        std::sort(out[l].begin() + static_cast<std::ptrdiff_t>(first[l]), out[l].end());
+        L[l].off[p + 1] = static_cast<std::uint32_t>(out[l].size() - first[l]);
+      }
     }
   });
-  for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
-  L.j.resize(L.off[N]);
+  for (PairList& l : L) {
+    for (std::size_t i = 0; i < N; ++i) l.off[i + 1] += l.off[i];
+    l.j.resize(l.off[N]);
+  }
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
-    auto& in = part[static_cast<std::size_t>(c)];
-    std::copy(in.begin(), in.end(), L.j.begin() + L.off[static_cast<std::size_t>(c) * kChunk]);
-    std::vector<std::uint32_t>().swap(in);
+    for (int l = 0; l < kLists; ++l) {
+      auto& in = part[static_cast<std::size_t>(c)][l];
+      std::copy(in.begin(), in.end(), L[l].j.begin() + L[l].off[static_cast<std::size_t>(c) * kChunk]);
+      std::vector<std::uint32_t>().swap(in);
+    }
   });
   return L;
 }
@@ -137,39 +162,26 @@ void Model<D>::bond_touching_pairs(double tol) {
       build_grid(contacts_too ? std::max(2 * rmax * (1 + tol), 2 * rmax + skin0) : 2 * rmax * (1 + tol));
   ph.lap("cell grid");
   const double f1 = (1 + tol) * (1 + tol);
-  auto touching = [&](std::size_t p, std::uint32_t q) {
-    const double r = rad[p] + rad[q];
-    return dist2(p, q) <= r * r * f1;
+  // Touching pairs become bonds; with contact detection, the others within reach are the
+  // contact candidates, listed in the same order.
+  auto touching = [&](std::size_t p, double d2, double rq) {
+    const double r = rad[p] + rq;
+    return d2 <= r * r * f1;
   };
-  auto near = [&](std::size_t p, std::uint32_t q) {
-    const double r = rad[p] + rad[q] + skin0;
-    return dist2(p, q) < r * r;
-  };
-  PairList L = build_pairs(
-      g, [&](std::size_t p, std::uint32_t q) { return touching(p, q) || (contacts_too && near(p, q)); });
-  if (contacts_too) {  // split: bonds, and the others as contact candidates, in the same order
-    const std::size_t N = n();
-    PairList B, C;
-    B.off.assign(N + 1, 0);
-    C.off.assign(N + 1, 0);
-    for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
-      for (std::uint32_t k = L.off[p]; k < L.off[p + 1]; ++k) ++(touching(p, L.j[k]) ? B : C).off[p + 1];
+  PairList L;
+  if (contacts_too) {
+    auto found = build_pairs<2>(g, [&](std::size_t p, std::uint32_t, double d2, double rq) {
+      if (touching(p, d2, rq)) return 1;
+      const double r = rad[p] + rq + skin0;
+      return d2 < r * r ? 2 : 0;
     });
-    for (std::size_t i = 0; i < N; ++i) B.off[i + 1] += B.off[i], C.off[i + 1] += C.off[i];
-    B.j.resize(B.off[N]);
-    C.j.resize(C.off[N]);
-    for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
-      std::uint32_t b = B.off[p], c = C.off[p];
-      for (std::uint32_t k = L.off[p]; k < L.off[p + 1]; ++k) {
-        if (touching(p, L.j[k]))
-          B.j[b++] = L.j[k];
-        else
-          C.j[c++] = L.j[k];
-      }
-    });
-    L = std::move(B);
-    found_contacts = std::move(C);
+    L = std::move(found[0]);
+    found_contacts = std::move(found[1]);
     found_contacts_skin = skin0;
+  } else {
+    auto found = build_pairs<1>(
+        g, [&](std::size_t p, std::uint32_t, double d2, double rq) { return touching(p, d2, rq) ? 1 : 0; });
+    L = std::move(found[0]);
   }
   L.st.assign(L.size(), pair_state::kIntact);
   bonds = std::move(L);
@@ -250,10 +262,11 @@ template <int D>
 void Model<D>::rebuild_contacts() {
   const double rmax = rad.max();
   const Grid g = build_grid(2 * rmax + skin);
-  take_contacts(build_pairs(g, [&](std::size_t p, std::uint32_t q) {
-    const double r = rad[p] + rad[q] + skin;
-    return dist2(p, q) < r * r && !bonded(p, q);
-  }));
+  auto found = build_pairs<1>(g, [&](std::size_t p, std::uint32_t q, double d2, double rq) {
+    const double r = rad[p] + rq + skin;
+    return d2 < r * r && !bonded(p, q) ? 1 : 0;
+  });
+  take_contacts(std::move(found[0]));
 }
 
 template <int D>

@@ -44,6 +44,10 @@ void Simulation::reserve(std::size_t n) { m_->reserve(n); }
 std::size_t Simulation::add_particle(std::array<double, 3> x, double radius, int material, double mass) {
   return m_->add_particle(x, radius, material, mass);
 }
+std::size_t Simulation::add_particles(const std::vector<std::array<double, 3>>& x, double radius,
+                                      int material, double mass) {
+  return m_->add_particles(x, radius, material, mass);
+}
 std::size_t Simulation::particle_count() const { return m_->particle_count(); }
 void Simulation::bond_touching_pairs(double tolerance) { m_->bond_touching_pairs(tolerance); }
 void Simulation::set_bonds(const std::vector<std::uint32_t>& first, const std::vector<std::uint32_t>& second,

@@ -532,6 +532,7 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
   }
 
   // The particles, groups and bonds of the filled regions.
+  log::Phases ph("scene set-up");  // strata -v: each part's time and memory
   m.regions = d.regions;
   sim.reserve(d.particle_count());
   for (std::size_t k = 0; k < d.sites.size(); ++k) {
@@ -540,10 +541,9 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
     // a mass that underflows (density 1e-320, say) is the density's fault
     const auto& table = *std::find_if(sc.materials.begin(), sc.materials.end(),
                                       [&](const MaterialTable& t) { return t.name == d.sites[k].material; });
-    table.density.blame([&] {
-      for (const auto& x : d.sites[k].sites.x) sim.add_particle(x, rad, mat);
-    });
+    table.density.blame([&] { sim.add_particles(d.sites[k].sites.x, rad, mat); });
   }
+  ph.lap("particles added");
   for (const auto& g : d.groups) {
     if (g.count == 0) continue;  // a group of FEM nodes only
     if (g.region >= 0) {         // a region's own group: its ids [first_id, first_id + count)
@@ -556,6 +556,7 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
     }
     m.groups[g.name] = g.count;
   }
+  ph.lap("groups");
 
   if (d.bonds_across_regions) {
     sim.bond_touching_pairs();
@@ -580,6 +581,7 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
     }
     sim.set_bonds(bi, bj, factor, strength);
   }
+  ph.lap("bonds");
 
   for (const auto& b : sc.boundaries) {
     const std::string& group = b.group;

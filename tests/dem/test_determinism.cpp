@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 using namespace strata;
 using namespace strata::dem;
 using namespace strata::dem::test;
@@ -191,4 +193,35 @@ TEST(Determinism, SlotsInTenDirections3D) {
   slots_match_general(preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
                                                    {10.6 * kRockD, 9 * kRockD, 9 * kRockD}, kRockD),
                       3, 600, 100);
+}
+
+TEST(Determinism, ParticlesAddedAtOnceAsOneByOne) {
+  // add_particles fills the arrays in parallel: the same ids, masses and bits as adding the
+  // particles one by one, also when added after single ones and before more.
+  const auto lat = preprocess::close_packed_box(preprocess::Packing::HCP, {0, 0, 0},
+                                                {8 * kRockD, 8 * kRockD, 8 * kRockD}, kRockD);
+  const std::vector<std::array<double, 3>> rest(lat.x.begin() + 1, lat.x.end() - 1);
+  auto run = [&](bool at_once) {
+    Simulation sim(3, Settings{.dt = 1e-12, .min_particles_per_thread = 1});
+    const int mat = sim.add_material(rock_material());
+    sim.add_particle(lat.x.front(), lat.radius, mat);
+    if (at_once) {
+      EXPECT_EQ(sim.add_particles(rest, lat.radius, mat), 1u);
+    } else {
+      for (const auto& p : rest) sim.add_particle(p, lat.radius, mat);
+    }
+    EXPECT_EQ(sim.add_particle(lat.x.back(), lat.radius, mat), lat.size() - 1);
+    sim.add_to_group(preprocess::top_row(lat), "top");
+    sim.prescribe_velocity("top", {0, 0, -10.0}, kZ);
+    sim.bond_touching_pairs();
+    sim.initialise();
+    sim.set_dt(0.5 * sim.critical_dt());
+    sim.run(200);
+    return std::tuple<std::uint64_t, double, double>{sim.state_hash(), sim.critical_dt(), sim.bond_energy()};
+  };
+  par::set_threads(2);
+  const auto a = run(false), b = run(true);
+  par::set_threads(0);
+  EXPECT_GT(std::get<2>(a), 0.0);  // loaded
+  EXPECT_EQ(a, b);
 }

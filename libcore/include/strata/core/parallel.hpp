@@ -12,6 +12,9 @@
 
 #if STRATA_WITH_OPENMP
 #include <omp.h>
+#if defined(__GLIBCXX__)
+#include <parallel/algorithm>
+#endif
 #endif
 
 namespace strata::par {
@@ -88,6 +91,18 @@ void parallel_team(int nthreads, F&& f) {
   }
 #endif
   f(0, 1);
+}
+
+/// Sorts [first, last) by `less` on all threads (libstdc++'s parallel mode where strata is
+/// built with OpenMP, std::sort otherwise). The order is the same for any thread count only
+/// when `less` is a total order (no two items equivalent): sort by a key and a unique index.
+template <typename It, typename Less>
+void sort(It first, It last, Less less) {
+#if STRATA_WITH_OPENMP && defined(__GLIBCXX__)
+  __gnu_parallel::sort(first, last, less);
+#else
+  std::sort(first, last, less);
+#endif
 }
 
 }  // namespace strata::par

@@ -114,6 +114,10 @@ class Simulation {
   /// Adds a particle at rest, in no group; returns its id. mass <= 0: density × cell
   /// measure (2D: (√3/2)·d², the hex cell area; 3D: d³/√2, the close-packed cell volume).
   std::size_t add_particle(std::array<double, 3> x, double radius, int material, double mass = 0);
+  /// Adds particles at x, all of one radius and material, as add_particle one by one (the
+  /// same ids and bits, filled in parallel); returns the first one's id.
+  std::size_t add_particles(const std::vector<std::array<double, 3>>& x, double radius, int material,
+                            double mass = 0);
   std::size_t particle_count() const;
   /// Bonds every pair with |xi - xj| <= (ri + rj)(1 + tolerance). O(N) with a cell grid.
   void bond_touching_pairs(double tolerance = 1e-6);

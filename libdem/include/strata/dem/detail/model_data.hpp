@@ -61,6 +61,13 @@ class ParticleConst {
     for (std::size_t i = 0; i < perm.size(); ++i) out[i] = all_[perm[i]];
     all_.swap(out);
   }
+  /// `count` more particles of one value.
+  void append(std::size_t count, double value) {
+    if (count == 0) return;
+    push_back(value);
+    if (!all_.empty()) all_.insert(all_.end(), count - 1, value);
+    n_ += count - 1;
+  }
   std::vector<double> values() const { return all_.empty() ? std::vector<double>(n_, one_) : all_; }
   void assign(const std::vector<double>& values) {
     all_.clear();
