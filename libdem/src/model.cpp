@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 namespace strata::dem::detail {
@@ -109,18 +110,32 @@ std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>& p,
   slots_release();
   if (nmat != static_cast<int>(materials.size())) refresh_laws();
   const std::size_t n1 = first + count;
-  for (int a = 0; a < D; ++a) {
-    x[a].resize(n1);
-    v[a].resize(n1, 0.0);
-  }
-  id.resize(n1);
-  grp.resize(n1, 0);
-  mat.resize(n1, static_cast<std::uint8_t>(m));
-  flags.resize(n1, 0);
+  // The arrays grow on all threads at once, one array each: their new pages are first
+  // touched in parallel (on a large model the kernel's first touch is most of the time).
+  constexpr int kArrays = 2 * D + 6;
+  auto grow = [&](int k) {
+    if (k < D) return x[k].resize(n1);
+    if (k < 2 * D) return v[k - D].resize(n1, 0.0);
+    switch (k - 2 * D) {
+      case 0:
+        return id.resize(n1);
+      case 1:
+        return grp.resize(n1, 0);
+      case 2:
+        return mat.resize(n1, static_cast<std::uint8_t>(m));
+      case 3:
+        return flags.resize(n1, 0);
+      case 4:
+        return bonds.off.resize(bonds.off.size() + count, static_cast<std::uint32_t>(bonds.size()));
+      default:
+        return contacts.off.resize(contacts.off.size() + count, static_cast<std::uint32_t>(contacts.size()));
+    }
+  };
+  par::parallel_team(small_model() ? 1 : par::threads(), [&](int t, int team) {
+    for (int k = t; k < kArrays; k += team) grow(k);
+  });
   im.append(count, 1.0 / mass);
   rad.append(count, r);
-  bonds.off.resize(bonds.off.size() + count, static_cast<std::uint32_t>(bonds.size()));
-  contacts.off.resize(contacts.off.size() + count, static_cast<std::uint32_t>(contacts.size()));
   for_range(static_cast<std::ptrdiff_t>(count), [&](std::ptrdiff_t i) {
     for (int a = 0; a < D; ++a) x[a][first + i] = p[i][a];
     id[first + i] = static_cast<std::uint32_t>(first + i);
@@ -205,7 +220,7 @@ void Model<D>::sort_particles(bool rows_allowed) {
     std::uint64_t code;
     std::uint32_t i;
   };
-  std::vector<Keyed> key(N);
+  std::unique_ptr<Keyed[]> key(new Keyed[N]);  // first written in parallel
   for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) {
     std::uint64_t c = 0;
     for (int a = 0; a < D; ++a) {
@@ -216,12 +231,12 @@ void Model<D>::sort_particles(bool rows_allowed) {
   });
   auto before = [](const Keyed& p, const Keyed& q) { return p.code != q.code ? p.code < q.code : p.i < q.i; };
   if (small_model())
-    std::sort(key.begin(), key.end(), before);
+    std::sort(key.get(), key.get() + N, before);
   else
-    par::sort(key.begin(), key.end(), before);
+    par::sort(key.get(), key.get() + N, before);
   std::vector<std::uint32_t> perm(N);
   for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) { perm[i] = key[i].i; });
-  key = {};
+  key.reset();
   reorder(perm);
 }
 

@@ -323,8 +323,7 @@ class Model final : public ModelBase, public ModelData<D> {
     std::int64_t cell_of(const double* p) const;
   };
   Grid build_grid(double h) const;
-  template <typename Fn>
-  void for_neighbours(const Grid& g, std::size_t p, Fn&& fn) const;
+  std::size_t neighbours_after(const Grid& g, std::size_t p, std::vector<std::uint32_t>& cand) const;
   template <int kLists, typename Classify>
   std::array<PairList, kLists> build_pairs(const Grid& g, Classify&& classify) const;
   void bond_touching_pairs(double tol) override;

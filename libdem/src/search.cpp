@@ -68,42 +68,46 @@ typename Model<D>::Grid Model<D>::build_grid(double h) const {
   return g;
 }
 
-// Calls fn(q, d2, rq) for every particle q > p in the cells around p, with d2 = dist2(p, q)
-// (the same bits) and rq the radius of q. The cells of one row lie side by side in the grid's
-// list: one sweep each.
+// The grid's list positions k of the particles q > p in the cells around p, into cand; returns
+// their count. The cells of one row lie side by side in the list (one sweep each), and the
+// test q > p, true for about half of them whatever the order, selects without a branch.
 template <int D>
-template <typename Fn>
-void Model<D>::for_neighbours(const Grid& g, std::size_t p, Fn&& fn) const {
-  double xp[D];
+std::size_t Model<D>::neighbours_after(const Grid& g, std::size_t p, std::vector<std::uint32_t>& cand) const {
   std::int64_t c[3] = {0, 0, 0};
-  for (int a = 0; a < D; ++a) {
-    xp[a] = x[a][p];
-    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>((xp[a] - g.lo[a]) / g.h), 0, g.dims[a] - 1);
-  }
+  for (int a = 0; a < D; ++a)
+    c[a] = std::clamp<std::int64_t>(static_cast<std::int64_t>((x[a][p] - g.lo[a]) / g.h), 0, g.dims[a] - 1);
   const std::int64_t x0 = std::max<std::int64_t>(c[0] - 1, 0), x1 = std::min(c[0] + 1, g.dims[0] - 1);
+  const std::uint32_t* start = g.start.data();
+  const std::uint32_t* list = g.list.data();
+  std::uint32_t lo[9], hi[9];
+  int rows = 0;
+  std::size_t total = 0;
   const int rz = D == 3 ? 1 : 0;
   for (int dz = -rz; dz <= rz; ++dz)
     for (int dy = -1; dy <= 1; ++dy) {
       const std::int64_t qy = c[1] + dy, qz = c[2] + dz;
       if (qy < 0 || qy >= g.dims[1] || (D == 3 && (qz < 0 || qz >= g.dims[2]))) continue;
       const std::int64_t row = g.dims[0] * (qy + (D == 3 ? g.dims[1] * qz : 0));
-      for (std::uint32_t k = g.start[row + x0]; k < g.start[row + x1 + 1]; ++k) {
-        const std::uint32_t o = g.list[k];
-        if (o <= p) continue;
-        const std::array<double, D + 1>& s = g.at[k];
-        double d2 = 0;
-        for (int a = 0; a < D; ++a) {
-          const double d = s[a] - xp[a];
-          d2 += d * d;
-        }
-        fn(o, d2, s[D]);
-      }
+      lo[rows] = start[row + x0];
+      hi[rows] = start[row + x1 + 1];
+      total += hi[rows] - lo[rows];
+      ++rows;
     }
+  if (cand.size() < total) cand.resize(2 * total);
+  std::uint32_t* out = cand.data();
+  std::size_t m = 0;
+  for (int r = 0; r < rows; ++r)
+    for (std::uint32_t k = lo[r]; k < hi[r]; ++k) {
+      out[m] = k;
+      m += list[k] > p;
+    }
+  return m;
 }
 
 // Builds kLists CSR pair lists of owners p with partners q > p, in parallel and
-// deterministically (rows sorted by partner): classify(p, q, d2, rq) puts each neighbour q in
-// list l - 1 for l in [1, kLists], or in none for 0.
+// deterministically (rows sorted by partner): classify(p, rp, q, d2, rq), with rp and rq the
+// radii and d2 = dist2(p, q) (the same bits), puts each neighbour q in list l - 1 for l in
+// [1, kLists], or in none for 0.
 template <int D>
 template <int kLists, typename Classify>
 std::array<PairList, kLists> Model<D>::build_pairs(const Grid& g, Classify&& classify) const {
@@ -114,18 +118,37 @@ std::array<PairList, kLists> Model<D>::build_pairs(const Grid& g, Classify&& cla
   std::array<PairList, kLists> L;
   for (PairList& l : L) l.off.assign(N + 1, 0);
   std::vector<std::array<std::vector<std::uint32_t>, kLists>> part(nc);
+  const std::array<double, D + 1>* at = g.at.get();
+  const std::uint32_t* list = g.list.data();
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     auto& out = part[static_cast<std::size_t>(c)];
+    std::vector<std::uint32_t> cand, hit[kLists];  // a particle's candidates and its pairs
     for (std::size_t p = static_cast<std::size_t>(c) * kChunk; p < std::min(N, (c + 1) * kChunk); ++p) {
-      std::size_t first[kLists];
-      for (int l = 0; l < kLists; ++l) first[l] = out[l].size();
-      for_neighbours(g, p, [&](std::uint32_t q, double d2, double rq) {
-        const int l = classify(p, q, d2, rq);
-        if (l > 0) out[l - 1].push_back(q);
-      });
-      for (int l = 0; l < kLists; ++l) {
-        std::sort(out[l].begin() + static_cast<std::ptrdiff_t>(first[l]), out[l].end());
-        L[l].off[p + 1] = static_cast<std::uint32_t>(out[l].size() - first[l]);
+      const std::size_t m = neighbours_after(g, p, cand);
+      double xp[D];
+      for (int a = 0; a < D; ++a) xp[a] = x[a][p];
+      const double rp = rad[p];
+      std::size_t found[kLists]{};
+      for (auto& h : hit)
+        if (h.size() < m) h.resize(cand.size());
+      for (std::size_t i = 0; i < m; ++i) {
+        const std::uint32_t k = cand[i], q = list[k];
+        const std::array<double, D + 1>& s = at[k];
+        double d2 = 0;
+        for (int a = 0; a < D; ++a) {
+          const double d = s[a] - xp[a];
+          d2 += d * d;
+        }
+        const int l = classify(p, rp, q, d2, s[D]);
+        for (int t = 0; t < kLists; ++t) {  // written always, kept where it belongs
+          hit[t][found[t]] = q;
+          found[t] += l == t + 1;
+        }
+      }
+      for (int t = 0; t < kLists; ++t) {
+        std::sort(hit[t].begin(), hit[t].begin() + static_cast<std::ptrdiff_t>(found[t]));
+        out[t].insert(out[t].end(), hit[t].begin(), hit[t].begin() + static_cast<std::ptrdiff_t>(found[t]));
+        L[t].off[p + 1] = static_cast<std::uint32_t>(found[t]);
       }
     }
   });
@@ -164,23 +187,24 @@ void Model<D>::bond_touching_pairs(double tol) {
   const double f1 = (1 + tol) * (1 + tol);
   // Touching pairs become bonds; with contact detection, the others within reach are the
   // contact candidates, listed in the same order.
-  auto touching = [&](std::size_t p, double d2, double rq) {
-    const double r = rad[p] + rq;
+  auto touching = [&](double rp, double d2, double rq) {
+    const double r = rp + rq;
     return d2 <= r * r * f1;
   };
   PairList L;
   if (contacts_too) {
-    auto found = build_pairs<2>(g, [&](std::size_t p, std::uint32_t, double d2, double rq) {
-      if (touching(p, d2, rq)) return 1;
-      const double r = rad[p] + rq + skin0;
-      return d2 < r * r ? 2 : 0;
+    auto found = build_pairs<2>(g, [&](std::size_t, double rp, std::uint32_t, double d2, double rq) {
+      const double r = rp + rq + skin0;
+      const int bond = touching(rp, d2, rq), near = d2 < r * r;
+      return bond + 2 * (near & (bond ^ 1));  // 1: bond, 2: contact candidate (no branch)
     });
     L = std::move(found[0]);
     found_contacts = std::move(found[1]);
     found_contacts_skin = skin0;
   } else {
-    auto found = build_pairs<1>(
-        g, [&](std::size_t p, std::uint32_t, double d2, double rq) { return touching(p, d2, rq) ? 1 : 0; });
+    auto found = build_pairs<1>(g, [&](std::size_t, double rp, std::uint32_t, double d2, double rq) {
+      return int(touching(rp, d2, rq));
+    });
     L = std::move(found[0]);
   }
   L.st.assign(L.size(), pair_state::kIntact);
@@ -262,8 +286,8 @@ template <int D>
 void Model<D>::rebuild_contacts() {
   const double rmax = rad.max();
   const Grid g = build_grid(2 * rmax + skin);
-  auto found = build_pairs<1>(g, [&](std::size_t p, std::uint32_t q, double d2, double rq) {
-    const double r = rad[p] + rq + skin;
+  auto found = build_pairs<1>(g, [&](std::size_t p, double rp, std::uint32_t q, double d2, double rq) {
+    const double r = rp + rq + skin;
     return d2 < r * r && !bonded(p, q) ? 1 : 0;
   });
   take_contacts(std::move(found[0]));
