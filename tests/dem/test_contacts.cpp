@@ -99,3 +99,51 @@ void candidates_with_the_bonds(int dim) {
 
 TEST(Contacts, CandidatesFoundWithTheBondsAreThoseOfTheirOwnSearch2D) { candidates_with_the_bonds(2); }
 TEST(Contacts, CandidatesFoundWithTheBondsAreThoseOfTheirOwnSearch3D) { candidates_with_the_bonds(3); }
+
+namespace {
+// bond_touching_pairs bonds exactly the pairs within (ri + rj)(1 + tolerance), as a brute-force
+// O(N²) search finds them: radii of 0.45-0.55 mm on a jittered grid, with and without the
+// contact candidates listed in the same search, particles in the grid's edge cells included.
+void bonds_against_brute_force(int dim, bool contacts) {
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<double> ur(0.45e-3, 0.55e-3), jitter(-0.08e-3, 0.08e-3);
+  Simulation sim(dim, Settings{.dt = 1e-12, .contact_detection = contacts});
+  const int mat = sim.add_material(rock_material());
+  const int n1 = dim == 2 ? 40 : 11;
+  const double sp = 1.02e-3;
+  for (int k = 0; k < (dim == 3 ? n1 : 1); ++k)
+    for (int j = 0; j < n1; ++j)
+      for (int i = 0; i < n1; ++i)
+        sim.add_particle({i * sp + jitter(rng), j * sp + jitter(rng), dim == 3 ? k * sp + jitter(rng) : 0},
+                         ur(rng), mat);
+  const double tol = 0.01;
+  sim.bond_touching_pairs(tol);
+  const auto x = sim.positions();
+  const auto r = sim.radii();
+  const auto ids = sim.ids();
+  std::vector<std::array<std::uint32_t, 2>> brute, found;
+  for (std::size_t i = 0; i < x.size(); ++i)
+    for (std::size_t j = i + 1; j < x.size(); ++j) {
+      double d2 = 0;
+      for (int a = 0; a < dim; ++a) d2 += (x[j][a] - x[i][a]) * (x[j][a] - x[i][a]);
+      const double reach = r[i] + r[j];  // as the search rounds it
+      if (d2 <= reach * reach * ((1 + tol) * (1 + tol)))
+        brute.push_back({std::min(ids[i], ids[j]), std::max(ids[i], ids[j])});
+    }
+  for (const auto& b : sim.bonds())
+    found.push_back({std::min(ids[b.i], ids[b.j]), std::max(ids[b.i], ids[b.j])});
+  std::sort(brute.begin(), brute.end());
+  std::sort(found.begin(), found.end());
+  EXPECT_GT(brute.size(), x.size() / 2) << "the test needs many bonds";
+  EXPECT_EQ(found, brute);
+}
+}  // namespace
+
+TEST(Contacts, BondsAreTheTouchingPairsOfABruteForceSearch2D) {
+  bonds_against_brute_force(2, false);
+  bonds_against_brute_force(2, true);
+}
+TEST(Contacts, BondsAreTheTouchingPairsOfABruteForceSearch3D) {
+  bonds_against_brute_force(3, false);
+  bonds_against_brute_force(3, true);
+}
