@@ -27,9 +27,10 @@ double hash_unit(std::uint64_t k) {
 
 // Margin of the time step over the Lanczos estimate: λ = min(bound, (1 + kMargin)·θ).
 constexpr double kMargin = 0.01;
-// Particles per chunk of the parallel set-up loops of the bound and the Lanczos products.
+// Particles per chunk of the parallel set-up loops (the Lanczos products, the layer mode) and
+// the fewest per chunk of the rigorous bound's pass.
 constexpr std::size_t kChunkP = 1024;
-// Chunks of the rigorous bound's pass: at least kChunkP particles, at most about this many chunks.
+// Chunks of the rigorous bound's pass: at most about this many (of at least kChunkP particles).
 constexpr std::size_t kBoundChunks = 512;
 // Fewest Lanczos steps before the residual may stop the iteration (large models).
 constexpr int kMinSteps = 10;
