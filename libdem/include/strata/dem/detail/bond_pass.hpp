@@ -64,7 +64,8 @@ inline constexpr std::size_t kChunk = 128;
 struct BondSpan {
   const double *X0, *X1, *X2, *V0, *V1, *V2, *R, *r0, *kf, *sf;
   double *F0, *F1, *F2, *en;
-  /// The shear histories (BondShear): uq at the span's first bond, kNs per bond; wide, the
+  /// The shear histories (BondShear): uq at the span's first bond, kNs per bond (in slots:
+  /// component a of entry q at uq[a * us_n + q]); wide, the
   /// wide bonds' entries (at least one: the pass reads entry 0 for a bond held in steps);
   /// unit and its inverse. keep_us false: uq points at zeros the pass reads and must not
   /// write (no shear history; unit and inv are then 0).
@@ -85,6 +86,7 @@ struct BondSpan {
   /// the bonds'; an entry without a bond is computed and left as it was (slow 0).
   std::uint32_t pa = 0, so = 0;
   int dir = 0;
+  std::size_t us_n = 0;
   const std::uint32_t* soff = nullptr;
   const std::uint8_t* smask = nullptr;    // 2D
   const std::uint16_t* smask3 = nullptr;  // 3D (up to ten directions)
@@ -134,6 +136,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   std::uint8_t* __restrict bst = sp.st;
   std::uint8_t* __restrict slow = sp.slow;
   std::int32_t* __restrict buq = sp.uq;
+  const std::size_t us_n = sp.us_n;
+  // component a of bond q's history
+  auto us_of = [buq, us_n](std::size_t q, int a) -> std::int32_t& {
+    if constexpr (kInSlots)
+      return buq[static_cast<std::size_t>(a) * us_n + q];
+    else
+      return buq[q * kNs + static_cast<std::size_t>(a)];
+  };
   double* __restrict bwide = sp.wide;
   const double unit = sp.unit, inv = sp.inv;
   const std::uint32_t k0 = sp.k0, salt = sp.salt;
@@ -165,13 +175,19 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     if constexpr (kInSlots) {
       const std::uint32_t mask = slot_mask<D>(sp, qa + i);
       HAS[i] = mask >> sp.dir & 1;
-      if constexpr (kShear) {  // LatticeSlots::bond, counted without popcount (vector lanes)
+      if constexpr (kShear) {  // LatticeSlots::bond
         const std::uint32_t lower = mask & ((1u << sp.dir) - 1u);
+#if defined(__AVX512VPOPCNTDQ__)
+        // a vector population count: one instruction per lane vector
+        const std::uint32_t bond = sp.soff[qa + i] + static_cast<std::uint32_t>(std::popcount(lower));
+#else
+        // counted bit by bit, which vectorises without a vector population count
         std::uint32_t bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
         static_assert(LatticeSlots<D>::kMax == (D == 2 ? 4 : 10), "one term per lower direction");
         if constexpr (D == 3)
           bond += (lower >> 3 & 1u) + (lower >> 4 & 1u) + (lower >> 5 & 1u) + (lower >> 6 & 1u) +
                   (lower >> 7 & 1u) + (lower >> 8 & 1u);
+#endif
         BI[i] = bond;
       }
     } else {
@@ -180,7 +196,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     }
     if constexpr (kBroken || kOpen) ST[i] = bst[qa + i];
     if constexpr (kBroken && kShear) {
-      const std::int32_t h = buq[(qa + i) * kNs];
+      const std::int32_t h = us_of(qa + i, 0);
       WI[i] = BondShear<kNs>::is_wide(h) ? static_cast<std::int64_t>(BondShear<kNs>::index_of(h)) : -1;
       WF[i] = BondShear<kNs>::is_wide(h);
     }
@@ -228,14 +244,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       const std::int64_t wide = -static_cast<std::int64_t>(WI[i] >= 0);  // all ones: wide
       const std::int64_t w = WI[i] & wide;
       for (int a = 0; a < kNs; ++a)
-        b[a] = either(masked(bwide[w * kNs + a], wide), masked(buq[q * kNs + a] * unit, ~wide));
+        b[a] = either(masked(bwide[w * kNs + a], wide), masked(us_of(q, a) * unit, ~wide));
     } else if constexpr (kOpen) {
       // broken and open: Us is zero (its wide entry holds zeros); the steps are read either
       // way and masked to +0
       const std::int64_t whole = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
-      for (int a = 0; a < kNs; ++a) b[a] = masked(buq[q * kNs + a] * unit, whole);
+      for (int a = 0; a < kNs; ++a) b[a] = masked(us_of(q, a) * unit, whole);
     } else {
-      for (int a = 0; a < kNs; ++a) b[a] = buq[q * kNs + a] * unit;
+      for (int a = 0; a < kNs; ++a) b[a] = us_of(q, a) * unit;
     }
     double us[3] = {0, 0, 0};  // the stored Us, turned, plus this step's increment
     if constexpr (D == 2) {
@@ -371,7 +387,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     for (std::size_t i = 0; i < len_q; ++i) {
       const std::int32_t put = -PUT32[i];  // all ones: the new steps
       for (int a = 0; a < kNs; ++a) {
-        std::int32_t& h = buq[(qa + i) * kNs + a];
+        std::int32_t& h = us_of(qa + i, a);
         h = (QN[a][i] & put) | (h & ~put);
       }
     }
@@ -390,23 +406,24 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
   constexpr int kNs = kNsOf<D>;
   const std::uint8_t* stq = sp.st;
   const std::int32_t* uq = sp.uq;
+  static_assert(pair_state::kIntact == 0, "a chunk of intact bonds ORs to kIntact");
   for (std::size_t qa = q0; qa < mq; qa += kChunk) {  // left scalar: a chunk at a time
     const std::size_t qb = std::min(mq, qa + kChunk);
     // shut: a broken bond that touches, or one that has not been found open yet (its state
     // and Us are the law's to settle)
     std::uint8_t any = 0, shut = 0;
-    for (std::size_t q = qa; q < qb; ++q) {
-      any |= stq[q];
-      shut |= (stq[q] & pair_state::kTouching) |
-              (stq[q] != pair_state::kIntact && !(stq[q] & pair_state::kSeparated));
-    }
+    for (std::size_t q = qa; q < qb; ++q) any |= stq[q];  // kIntact is 0: nonzero where one is not
+    if (any != pair_state::kIntact)
+      for (std::size_t q = qa; q < qb; ++q)
+        shut |= (stq[q] & pair_state::kTouching) |
+                (stq[q] != pair_state::kIntact && !(stq[q] & pair_state::kSeparated));
     // an intact bond that is wide (a broken one is, and sets `any`); it matters where no bond
     // is broken (the intact form is then out) or where the open form may apply
     constexpr bool kMayOpen = kOpenIsInert<Law>;
     bool wide = false;
     if (sp.intact_wide && !shut && (any == pair_state::kIntact || (kMayOpen && sp.keep_us)))
       for (std::size_t q = qa; q < qb; ++q)  // left scalar: only where intact bonds may be wide
-        wide |= stq[q] == pair_state::kIntact && BondShear<kNs>::is_wide(uq[q * kNs]);
+        wide |= stq[q] == pair_state::kIntact && BondShear<kNs>::is_wide(uq[kInSlots ? q : q * kNs]);
     const bool broken = any != pair_state::kIntact || wide;
     // broken bonds, all open, among intact ones held in 32 bits: the intact form with kOpen
     // (with a shear history only: GCC 12 does not vectorise that form without)

@@ -476,8 +476,10 @@ struct LatticeSlots {
   std::size_t per = 0;     // the entries of all directions: one thread's
   int threads = 1;
   std::vector<double> f, en;  // f: [thread][direction][axis][ring entry], en: [thread][direction][ring entry]
-  /// The bonds' state and shear history (BondShear's 32-bit steps or wide code, ns each)
-  /// by column and owner, [col[d]][p]: where a model steps in slots these are its bonds'
+  /// The bonds' state by column and owner, [col[d]][p], and their shear histories
+  /// (BondShear's 32-bit steps or wide code) by column, component and owner,
+  /// [col[d]][a][p] (us_at): the bond pass reads each component of consecutive owners as one
+  /// vector, with nothing to split apart. Where a model steps in slots these are its bonds'
   /// state, and the bonds' own arrays (PairList::st, BondShear::q) are brought up to date
   /// when something else reads them (ModelData::bonds_current). Directions no particle
   /// owns both of share a column (p + L - 1 and p + L + 1 in a lattice of rows of equal
@@ -501,9 +503,14 @@ struct LatticeSlots {
   static constexpr std::uint32_t kGap = 16;
   std::vector<std::uint32_t> run;
   std::size_t run_at[kMax + 1]{};
-  /// The entry of owner p's bond in direction d in st (and its kNs in uq), of n particles.
+  /// The entry of owner p's bond in direction d in st, of n particles.
   std::size_t entry(int d, std::size_t p, std::size_t n) const {
     return static_cast<std::size_t>(col[d]) * n + p;
+  }
+  /// Where component a of the shear history of owner p's bond in direction d lies in uq, of
+  /// n particles.
+  std::size_t us_at(int d, int a, std::size_t p, std::size_t n) const {
+    return (static_cast<std::size_t>(col[d]) * kNsOf<D> + static_cast<std::size_t>(a)) * n + p;
   }
   /// The direction of bond k, owned by a particle with mask m whose first bond is `first`.
   int direction(std::uint32_t first, Mask m, std::uint32_t k) const {
@@ -652,17 +659,15 @@ struct ModelData {
   }
   /// Bond k (owner p, direction d) from the bonds' arrays into its slot, or back.
   void slot_take(std::uint32_t k, std::size_t p, int d) {
-    const std::size_t s = slots.entry(d, p, n());
-    slots.st[s] = bonds.st[k];
+    slots.st[slots.entry(d, p, n())] = bonds.st[k];
     if (!bond_us.empty())
-      for (int a = 0; a < kNs; ++a) slots.uq[s * kNs + a] = bond_us.q[std::size_t{k} * kNs + a];
+      for (int a = 0; a < kNs; ++a) slots.uq[slots.us_at(d, a, p, n())] = bond_us.q[std::size_t{k} * kNs + a];
   }
   void slot_give(std::uint32_t k, std::size_t p, int d) {
-    const std::size_t s = slots.entry(d, p, n());
     bonds.j[k] = static_cast<std::uint32_t>(p + slots.off[d]);
-    bonds.st[k] = slots.st[s];
+    bonds.st[k] = slots.st[slots.entry(d, p, n())];
     if (!bond_us.empty())
-      for (int a = 0; a < kNs; ++a) bond_us.q[std::size_t{k} * kNs + a] = slots.uq[s * kNs + a];
+      for (int a = 0; a < kNs; ++a) bond_us.q[std::size_t{k} * kNs + a] = slots.uq[slots.us_at(d, a, p, n())];
   }
   /// The bonds' state into the slots, which hold it from now on (the bonds' own arrays of
   /// it are let go by the step: slots_let_go).

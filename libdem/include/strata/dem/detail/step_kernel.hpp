@@ -603,7 +603,7 @@ class Engine final : public LawEngine<D> {
                   L.force(t, d, 1) + r0,
                   L.force(t, d, D - 1) + r0,
                   L.energy(t, d) + r0,
-                  keep_us ? L.uq.data() + s0 * kNs : S.no_us.data(),
+                  keep_us ? L.uq.data() + L.us_at(d, 0, static_cast<std::size_t>(p0), m.n()) : S.no_us.data(),
                   m.bond_us.wide.empty() ? no_wide : m.bond_us.wide.data(),
                   keep_us ? m.bond_us.unit : 0.0,
                   keep_us ? m.bond_us.inv : 0.0,
@@ -617,6 +617,7 @@ class Engine final : public LawEngine<D> {
                   sslow,
                   static_cast<std::uint32_t>(p0),
                   static_cast<std::uint32_t>(n)};
+      sp.us_n = keep_us ? m.n() : nb;
       sp.pa = static_cast<std::uint32_t>(p0);
       sp.so = L.off[d];
       sp.dir = d;
@@ -704,8 +705,15 @@ class Engine final : public LawEngine<D> {
                          double* F, int& broke) const {
     LatticeSlots<D>& L = m.slots;
     const std::size_t s = L.entry(d, p, m.n());
-    return bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s],
-                                  m.bond_us.empty() ? nullptr : &L.uq[s * kNs], F, broke);
+    if (m.bond_us.empty()) return bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s], nullptr, F, broke);
+    std::int32_t h[kNs];  // the history's components, together for the reference kernel
+    for (int a = 0; a < kNs; ++a) h[a] = L.uq[L.us_at(d, a, p, m.n())];
+    const double e = bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s], h, F, broke);
+    for (int a = 0; a < kNs; ++a) L.uq[L.us_at(d, a, p, m.n())] = h[a];
+    // a bond that became wide gets its entry's code at the step's end: in its slot
+    auto& fresh = m.bond_us.fresh[static_cast<std::size_t>(t)];
+    if (!fresh.empty() && fresh.back().h == h) fresh.back().h = &L.uq[L.us_at(d, 0, p, m.n())];
+    return e;
   }
 
   /// One particle with a boundary condition through the update: its free axes by the damped
