@@ -86,7 +86,7 @@ struct BondSpan {
   /// the bonds'; an entry without a bond is computed and left as it was (slow 0).
   std::uint32_t pa = 0, so = 0;
   int dir = 0;
-  std::size_t us_n = 0;
+  std::size_t us_n = 0;  // in slots: the stride between the components of uq
   const std::uint32_t* soff = nullptr;
   const std::uint8_t* smask = nullptr;    // 2D
   const std::uint16_t* smask3 = nullptr;  // 3D (up to ten directions)
