@@ -389,6 +389,60 @@ TEST(LawConformance, OpenBrokenBondsAmongIntactOnesGiveTheSameBitsOnBothPaths) {
   }
 }
 
+// A model whose laws all have Ks = 0 keeps no shear history, and its bond pass holds Us at
+// zero without computing the shear increment (a law with Ks = 0 gives a zero shear force and
+// takes its verdict and energy from Un alone). The reference kernel still adds the increment
+// to a zero Us. Both must give the same states, verdicts and energies bit for bit and the
+// same forces (as values: where a force component is zero the two may differ in its sign,
+// which no sum of forces sees).
+TEST(LawConformance, WithoutShearHistoryTheBondPassGivesTheReferenceForces) {
+  ASSERT_TRUE(kRegistered);
+  Rng rng{19991231};
+  for (const dem::detail::LawEntry* law : dem::detail::all_laws()) {
+    long bad = 0, cases = 0, held = 0, broke = 0, touching = 0, open = 0;
+    for (Material m : materials()) {
+      m.ks = 0;
+      for (int dim : {2, 3})
+        for (int rest : {0, 1, 2})
+          for (bool energy : {true, false}) {
+            auto cs = make_cases(rng, m, dim, rest, energy, 2000);
+            cs.shear_kept = false;
+            for (auto& u : cs.us) u = {0, 0, 0};
+            const auto ref = law->reference(dim, cs);
+            const auto bat = law->batch(dim, cs);
+            for (std::size_t i = 0; i < cs.size(); ++i) {
+              ++cases;
+              const bool was_intact = cs.st[i] == ps::kIntact;
+              held += was_intact && ref.verdict[i] == 0;
+              broke += ref.verdict[i] != 0;
+              touching += !was_intact && (ref.st[i] & ps::kTouching);
+              open += !was_intact && !(ref.st[i] & ps::kTouching);
+              bool same = (bat.verdict[i] != 0) == (ref.verdict[i] != 0);
+              if (same && bat.verdict[i]) {
+                same = bat.st[i] == cs.st[i];  // left to the reference kernel, untouched
+              } else if (same) {
+                same = bat.st[i] == ref.st[i] && (!energy || same_bits(bat.energy[i], ref.energy[i]));
+                for (int a = 0; a < dim; ++a) same = same && bat.force[i][a] == ref.force[i][a];
+              }
+              if (!same && ++bad <= 5)
+                std::printf("%s %dD rest %d case %zu: state %d -> ref %d / batch %d, verdict %d / %d\n",
+                            law->name.c_str(), dim, rest, i, cs.st[i], ref.st[i], bat.st[i], ref.verdict[i],
+                            bat.verdict[i]);
+            }
+          }
+    }
+    std::printf("%s without shear history: %ld cases; held %ld, broke %ld, broken touching %ld, open %ld\n",
+                law->name.c_str(), cases, held, broke, touching, open);
+    EXPECT_EQ(bad, 0) << law->name;
+    EXPECT_GT(held, 1000) << law->name;
+    EXPECT_GT(touching, 1000) << law->name;
+    EXPECT_GT(open, 1000) << law->name;
+    if (law->name == SolidLatticeLaw::kName) {
+      EXPECT_GT(broke, 500);
+    }
+  }
+}
+
 TEST(LawConformance, TheTableListsTheBuiltInLawsAndTheRegistryFindsThem) {
   for (const LawInfo& l : kLaws) {
     const dem::detail::LawEntry* e = dem::detail::find_law(l.name);

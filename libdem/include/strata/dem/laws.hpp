@@ -16,7 +16,9 @@
 ///  - `Law scaled(double f) const`: the law with its stiffnesses times f (intact bonds of
 ///    eccentric lattices); `PairStiffness stiffness() const` (critical time step; a law
 ///    whose shear stiffness `ks` is zero for every pair of the model must give a shear
-///    force of zero whatever Us holds: such a model keeps no shear history, and passes zeros);
+///    force of zero, and take its verdict and energy from Un alone, whatever Us holds: such
+///    a model keeps no shear history, and its bond pass passes Us = 0 without computing the
+///    shear increment);
 ///  - the reference kernel `template <int NS> PairOutcome<NS> apply(st, un, us, dus) const`
 ///    and `template <int NS> double energy(st, un, us) const`, NS = 1 in 2D, 3 in 3D; it
 ///    handles every kind of pair (intact and broken bonds, never-bonded contacts);

@@ -234,39 +234,42 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       un = R[p] + R[j] - len;
     }
     // shear displacement with this step's increment, and its square; the stored Us is in
-    // 32-bit steps, or for a wide bond (kBroken only) in its entry
-    double b[kNs];
-    if constexpr (!kShear) {
-      for (int a = 0; a < kNs; ++a) b[a] = 0.0;
-    } else if constexpr (kBroken) {
-      // both read (a wide bond's steps are its entry's code, a bond held in steps reads entry
-      // 0) and the right one kept by masks: a select of the loads would be a masked load
-      const std::int64_t wide = -static_cast<std::int64_t>(WI[i] >= 0);  // all ones: wide
-      const std::int64_t w = WI[i] & wide;
-      for (int a = 0; a < kNs; ++a)
-        b[a] = either(masked(bwide[w * kNs + a], wide), masked(us_of(q, a) * unit, ~wide));
-    } else if constexpr (kOpen) {
-      // broken and open: Us is zero (its wide entry holds zeros); the steps are read either
-      // way and masked to +0
-      const std::int64_t whole = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
-      for (int a = 0; a < kNs; ++a) b[a] = masked(us_of(q, a) * unit, whole);
-    } else {
-      for (int a = 0; a < kNs; ++a) b[a] = us_of(q, a) * unit;
-    }
+    // 32-bit steps, or for a wide bond (kBroken only) in its entry. Without a shear history
+    // every law's Ks is zero, and a law's force, verdict and energy then do not depend on Us
+    // (laws.hpp): Us stays zero and the ends' velocities are not read.
     double us[3] = {0, 0, 0};  // the stored Us, turned, plus this step's increment
-    if constexpr (D == 2) {
-      us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
-    } else {
-      const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
-      const double dun = du0 * n0 + du1 * n1 + du2 * n2;
-      const double b0 = b[0], b1 = b[1], b2 = b[kNs - 1];
-      const double usn = b0 * n0 + b1 * n1 + b2 * n2;
-      us[0] = (b0 - usn * n0) + (du0 - dun * n0);
-      us[1] = (b1 - usn * n1) + (du1 - dun * n1);
-      us[2] = (b2 - usn * n2) + (du2 - dun * n2);
-    }
     double u2 = 0;
-    for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
+    if constexpr (kShear) {
+      double b[kNs];
+      if constexpr (kBroken) {
+        // both read (a wide bond's steps are its entry's code, a bond held in steps reads
+        // entry 0) and the right one kept by masks: a select of the loads would be a masked
+        // load
+        const std::int64_t wide = -static_cast<std::int64_t>(WI[i] >= 0);  // all ones: wide
+        const std::int64_t w = WI[i] & wide;
+        for (int a = 0; a < kNs; ++a)
+          b[a] = either(masked(bwide[w * kNs + a], wide), masked(us_of(q, a) * unit, ~wide));
+      } else if constexpr (kOpen) {
+        // broken and open: Us is zero (its wide entry holds zeros); the steps are read either
+        // way and masked to +0
+        const std::int64_t whole = -static_cast<std::int64_t>(ST[i] == kIntact);  // all ones: intact
+        for (int a = 0; a < kNs; ++a) b[a] = masked(us_of(q, a) * unit, whole);
+      } else {
+        for (int a = 0; a < kNs; ++a) b[a] = us_of(q, a) * unit;
+      }
+      if constexpr (D == 2) {
+        us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
+      } else {
+        const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
+        const double dun = du0 * n0 + du1 * n1 + du2 * n2;
+        const double b0 = b[0], b1 = b[1], b2 = b[kNs - 1];
+        const double usn = b0 * n0 + b1 * n1 + b2 * n2;
+        us[0] = (b0 - usn * n0) + (du0 - dun * n0);
+        us[1] = (b1 - usn * n1) + (du1 - dun * n1);
+        us[2] = (b2 - usn * n2) + (du2 - dun * n2);
+      }
+      for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
+    }
     Geo g{{n0, n1, n2}, un, {us[0], us[1], us[2]}, u2};
     return g;
   };

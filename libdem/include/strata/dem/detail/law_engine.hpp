@@ -64,6 +64,9 @@ struct BondCases {
   std::vector<double> r0, kf, sf;         ///< rest length, stiffness and strength factor (rest = 2)
   std::vector<std::uint8_t> st;           ///< state byte (bond kinds only)
   std::vector<std::array<double, 3>> us;  ///< stored Us (first 1 in 2D)
+  /// false: as in a model whose laws all have Ks = 0, which keeps no shear history: the
+  /// bond pass holds Us at zero (the cases' us should then be zero)
+  bool shear_kept = true;
   std::size_t size() const { return xp.size(); }
 };
 
