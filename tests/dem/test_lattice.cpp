@@ -1,4 +1,5 @@
 // Lattices, bond counts and the critical time step.
+#include <strata/dem/detail/model_data.hpp>
 #include "dem_test_util.hpp"
 
 #include <strata/preprocess/lattice.hpp>
@@ -64,7 +65,7 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
   // A lattice of one material: per particle x, v and x0 (3·D doubles), id and group set
   // (8 B), material and flags (2 B), the two CSR offsets (8 B); no radius or inverse mass of
   // its own (one value for all) and no force array (pending forces wait in a front of a few
-  // blocks: a ring of 32 blocks per thread and the slots of blocks further ahead). Per bond
+  // blocks: a ring of kRingBlocks blocks per thread and the slots of blocks further ahead). Per bond
   // its partner, state byte and shear history (one 32-bit component in 2D, 3 in 3D, while no
   // bond is broken; none with normal springs only, ks = 0, whose shear force is zero
   // whatever the history); the bond pass finds each bond's owner from the offsets, or, with
@@ -99,7 +100,8 @@ TEST(Lattice, ModelMemoryIsItsArraysPerParticleAndBond) {
       const double arrays = n * (3 * dim * 8 + 8 + 2 + 8) + nb * (4 + 1 + 4 * ns + (central ? 1 : 0));
       // ring entries: 3 directions of 512 in 2D; 3 of 512 and 5 of 1024 in 3D
       const double entries = dim == 2 ? 3 * 512 : 3 * 512 + 5 * 1024, cols = dim == 2 ? 3 : 6;
-      const double ring = dim * 32 * 256 * 8.0 + n * (dim - 1) + (dim + 1) * entries * 8.0;
+      const double ring = dim * static_cast<double>(dem::detail::kRingBlocks * dem::detail::kBlock) * 8.0 +
+                          n * (dim - 1) + (dim + 1) * entries * 8.0;
       const double got = static_cast<double>(sim.memory_bytes());
       EXPECT_GE(got, arrays + ring) << dim << "D";
       // the rest: per-block accumulators (64 B per 256 particles) and the block slot map

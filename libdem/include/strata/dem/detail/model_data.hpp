@@ -342,8 +342,10 @@ struct Incoming {
   bool contact;
 };
 
-/// Blocks of pending forces a thread keeps in its ring (see PendingPool).
-inline constexpr std::ptrdiff_t kRingBlocks = 32;
+/// Blocks of pending forces a thread keeps in its ring (see PendingPool): 32,768 particles,
+/// 786 KB in 3D. With 32 blocks more of a large model's partners lay beyond the ring, in
+/// slots, and a 1.3e7-sphere cube stepped 4 % slower.
+inline constexpr std::ptrdiff_t kRingBlocks = 128;
 /// Particles per slot of pending forces beyond the ring (see PendingPool): the front's
 /// partners lie scattered there, a few per block, so slots of whole blocks would hold
 /// mostly zeros (the slots of a 10^6-sphere cube on two threads: 4.7 B per sphere in slots
