@@ -93,6 +93,16 @@ struct BondSpan {
   bool* slow_seen = nullptr;              // set where an entry is left to the reference kernel
 };
 
+/// Where component a of entry q's shear history lies in BondSpan::uq: kNs per bond, or in
+/// lattice slots one array per component, us_n apart.
+template <int kNs, bool kInSlots>
+[[gnu::always_inline]] inline std::size_t us_index(std::size_t q, int a, std::size_t us_n) {
+  if constexpr (kInSlots)
+    return static_cast<std::size_t>(a) * us_n + q;
+  else
+    return q * kNs + static_cast<std::size_t>(a);
+}
+
 /// The directions owner pa + q holds (BondSpan::smask, or smask3 in 3D).
 template <int D>
 [[gnu::always_inline]] inline std::uint32_t slot_mask(const BondSpan& sp, std::size_t q) {
@@ -139,10 +149,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
   const std::size_t us_n = sp.us_n;
   // component a of bond q's history
   auto us_of = [buq, us_n](std::size_t q, int a) -> std::int32_t& {
-    if constexpr (kInSlots)
-      return buq[static_cast<std::size_t>(a) * us_n + q];
-    else
-      return buq[q * kNs + static_cast<std::size_t>(a)];
+    return buq[us_index<kNs, kInSlots>(q, a, us_n)];
   };
   double* __restrict bwide = sp.wide;
   const double unit = sp.unit, inv = sp.inv;
@@ -179,7 +186,8 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
         const std::uint32_t lower = mask & ((1u << sp.dir) - 1u);
 #if defined(__AVX512VPOPCNTDQ__)
         // a vector population count: one instruction per lane vector
-        const std::uint32_t bond = sp.soff[qa + i] + static_cast<std::uint32_t>(std::popcount(lower));
+        const std::uint32_t bond =
+            LatticeSlots<D>::bond(sp.soff[qa + i], static_cast<typename LatticeSlots<D>::Mask>(mask), sp.dir);
 #else
         // counted bit by bit, which vectorises without a vector population count
         std::uint32_t bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
@@ -426,7 +434,8 @@ void bond_chunks(const BondSpan& sp, const Law& L, double dt, double d_uniform, 
     bool wide = false;
     if (sp.intact_wide && !shut && (any == pair_state::kIntact || (kMayOpen && sp.keep_us)))
       for (std::size_t q = qa; q < qb; ++q)  // left scalar: only where intact bonds may be wide
-        wide |= stq[q] == pair_state::kIntact && BondShear<kNs>::is_wide(uq[kInSlots ? q : q * kNs]);
+        wide |= stq[q] == pair_state::kIntact &&
+                BondShear<kNs>::is_wide(uq[us_index<kNs, kInSlots>(q, 0, sp.us_n)]);
     const bool broken = any != pair_state::kIntact || wide;
     // broken bonds, all open, among intact ones held in 32 bits: the intact form with kOpen
     // (with a shear history only: GCC 12 does not vectorise that form without)

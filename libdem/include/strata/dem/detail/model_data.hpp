@@ -223,8 +223,11 @@ struct BondShear {
   void store(int t, std::size_t k, std::uint32_t salt, bool intact, const double* u) {
     store_at(t, k, q.data() + k * NS, salt, intact, u);
   }
-  /// The same for bond k held at h (here or in lattice slots).
-  void store_at(int t, std::size_t k, std::int32_t* h, std::uint32_t salt, bool intact, const double* u) {
+  /// The same for bond k held at h (here or in lattice slots). code_at: where the bond's
+  /// first component lives, which gets its wide entry's code at the step's end if it needs
+  /// one (h itself unless said: a caller that holds a copy of the components).
+  void store_at(int t, std::size_t k, std::int32_t* h, std::uint32_t salt, bool intact, const double* u,
+                std::int32_t* code_at = nullptr) {
     if (intact && fits(u)) {
       const std::uint32_t bits = dither_bits(static_cast<std::uint32_t>(k), salt);
       for (int a = 0; a < NS; ++a) h[a] = steps_of(u[a] * inv, bits, a);
@@ -232,7 +235,7 @@ struct BondShear {
       double* w = wide.data() + index_of(h[0]) * NS;
       for (int a = 0; a < NS; ++a) w[a] = u[a];
     } else {
-      Fresh f{h, intact, {}};
+      Fresh f{code_at ? code_at : h, intact, {}};
       for (int a = 0; a < NS; ++a) f.u[a] = u[a];
       fresh[static_cast<std::size_t>(t)].push_back(f);
     }
@@ -493,7 +496,7 @@ struct LatticeSlots {
   bool held = false;   // st and uq hold the bonds' state
   bool ahead = false;  // ... and the bonds' own arrays are behind it
   /// The bond of owner p in direction d (bit d of mask[p] set), given p's first bond.
-  std::uint32_t bond(std::uint32_t first, Mask m, int d) const {
+  static std::uint32_t bond(std::uint32_t first, Mask m, int d) {
     return first + static_cast<std::uint32_t>(std::popcount(static_cast<unsigned>(m & ((1u << d) - 1))));
   }
   int cols = 0;

@@ -300,17 +300,19 @@ class Engine final : public LawEngine<D> {
                                   broke);
   }
   /// The same for bond k to partner j whose state st and shear history h (nullptr: none kept)
-  /// are held where the caller says (in the bonds' arrays, or in lattice slots).
+  /// are held where the caller says (in the bonds' arrays, or in lattice slots); code_at as
+  /// BondShear::store_at.
   template <bool kEnergy>
   [[gnu::noinline]] double bond_force_at(ModelData<D>& m, int t, const StepCtx& c, const double* const* X,
                                          const double* const* V, std::size_t p, std::uint32_t k,
                                          std::uint32_t j, std::uint8_t& st, std::int32_t* h, double* F,
-                                         int& broke) const {
+                                         int& broke, std::int32_t* code_at = nullptr) const {
     double us[kNs] = {};
     if (h) m.bond_us.load_at(h, us);
     const double e = pair_force<kEnergy>(X, V, m.rest_of(m.bonds, k, p, j), p, j, st, us,
                                          law_for(m, m.bonds, k, p, j), c.dt, F, broke);
-    if (h) m.bond_us.store_at(t, k, h, c.salt, (st & pair_state::kKindMask) == pair_state::kIntact, us);
+    if (h)
+      m.bond_us.store_at(t, k, h, c.salt, (st & pair_state::kKindMask) == pair_state::kIntact, us, code_at);
     return e;
   }
 
@@ -706,13 +708,13 @@ class Engine final : public LawEngine<D> {
     LatticeSlots<D>& L = m.slots;
     const std::size_t s = L.entry(d, p, m.n());
     if (m.bond_us.empty()) return bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s], nullptr, F, broke);
-    std::int32_t h[kNs];  // the history's components, together for the reference kernel
+    // the history's components, together for the reference kernel; a bond that becomes wide
+    // gets its entry's code in its slot
+    std::int32_t h[kNs];
     for (int a = 0; a < kNs; ++a) h[a] = L.uq[L.us_at(d, a, p, m.n())];
-    const double e = bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s], h, F, broke);
+    const double e =
+        bond_force_at<kEnergy>(m, t, c, X, V, p, k, j, L.st[s], h, F, broke, &L.uq[L.us_at(d, 0, p, m.n())]);
     for (int a = 0; a < kNs; ++a) L.uq[L.us_at(d, a, p, m.n())] = h[a];
-    // a bond that became wide gets its entry's code at the step's end: in its slot
-    auto& fresh = m.bond_us.fresh[static_cast<std::size_t>(t)];
-    if (!fresh.empty() && fresh.back().h == h) fresh.back().h = &L.uq[L.us_at(d, 0, p, m.n())];
     return e;
   }
 
