@@ -304,7 +304,7 @@ void Model<D>::reorder(const std::vector<std::uint32_t>& perm) {
     for_range(static_cast<std::ptrdiff_t>(perm.size()), [&](std::ptrdiff_t i) { spare[i] = a[perm[i]]; });
     a.swap(spare);
   };
-  std::vector<double> spare;
+  aligned_vector<double> spare;
   for (int a = 0; a < D; ++a) {
     permute(x[a], spare);
     permute(v[a], spare);
@@ -318,7 +318,9 @@ void Model<D>::reorder(const std::vector<std::uint32_t>& perm) {
   spare32 = {};
   std::vector<std::uint8_t> spare8;
   permute(mat, spare8);
-  permute(flags, spare8);
+  spare8 = {};
+  aligned_vector<std::uint8_t> spare_flags;
+  permute(flags, spare_flags);
   inv_cache.clear();
   if (!pairs.empty()) {
     for (auto& p : pairs)
@@ -364,7 +366,7 @@ void Model<D>::reorder(const std::vector<std::uint32_t>& perm) {
 
 // ---- read access ---------------------------------------------------------------------------
 template <int D>
-std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>& a,
+std::vector<std::array<double, 3>> Model<D>::pack(const std::array<aligned_vector<double>, D>& a,
                                                   Rows rows) const {
   std::vector<std::array<double, 3>> out(rows.count(n()), {0, 0, 0});
   for (std::size_t k = 0; k < out.size(); ++k)
@@ -507,29 +509,29 @@ std::unique_ptr<ModelBase> make_model(const Settings& s) {
 template std::unique_ptr<ModelBase> make_model<2>(const Settings&);
 template std::unique_ptr<ModelBase> make_model<3>(const Settings&);
 
-#define STRATA_DEM_INSTANTIATE(D)                                                                       \
-  template void Model<D>::reserve(std::size_t);                                                         \
-  template std::size_t Model<D>::add_particle(std::array<double, 3>, double, int, double);              \
-  template std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>&, double, int,  \
-                                               double);                                                 \
-  template double Model<D>::checked_mass(double, int, double) const;                                    \
-  template std::vector<std::uint32_t> Model<D>::index_of_id() const;                                    \
-  template std::size_t Model<D>::index_of(std::size_t, const char*) const;                              \
-  template void Model<D>::set_velocity(std::size_t, std::array<double, 3>);                             \
-  template void Model<D>::add_to_group(const std::vector<std::uint32_t>&, std::uint32_t);               \
-  template std::vector<std::uint32_t> Model<D>::members(std::uint32_t) const;                           \
-  template void Model<D>::sort_particles(bool);                                                         \
-  template void Model<D>::keep_rows_if_lattice();                                                       \
-  template bool Model<D>::added_in_rows() const;                                                        \
-  template void Model<D>::reorder(const std::vector<std::uint32_t>&);                                   \
-  template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<std::vector<double>, D>&, \
-                                                             Rows) const;                               \
-  template std::vector<std::array<double, 3>> Model<D>::displacements(Rows) const;                      \
-  template std::vector<double> Model<D>::radii(Rows) const;                                             \
-  template std::vector<std::uint32_t> Model<D>::ids(Rows) const;                                        \
-  template std::vector<std::uint8_t> Model<D>::bond_counts() const;                                     \
-  template std::vector<float> Model<D>::damage(Rows) const;                                             \
-  template std::size_t Model<D>::memory_bytes() const;                                                  \
+#define STRATA_DEM_INSTANTIATE(D)                                                                          \
+  template void Model<D>::reserve(std::size_t);                                                            \
+  template std::size_t Model<D>::add_particle(std::array<double, 3>, double, int, double);                 \
+  template std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>&, double, int,     \
+                                               double);                                                    \
+  template double Model<D>::checked_mass(double, int, double) const;                                       \
+  template std::vector<std::uint32_t> Model<D>::index_of_id() const;                                       \
+  template std::size_t Model<D>::index_of(std::size_t, const char*) const;                                 \
+  template void Model<D>::set_velocity(std::size_t, std::array<double, 3>);                                \
+  template void Model<D>::add_to_group(const std::vector<std::uint32_t>&, std::uint32_t);                  \
+  template std::vector<std::uint32_t> Model<D>::members(std::uint32_t) const;                              \
+  template void Model<D>::sort_particles(bool);                                                            \
+  template void Model<D>::keep_rows_if_lattice();                                                          \
+  template bool Model<D>::added_in_rows() const;                                                           \
+  template void Model<D>::reorder(const std::vector<std::uint32_t>&);                                      \
+  template std::vector<std::array<double, 3>> Model<D>::pack(const std::array<aligned_vector<double>, D>&, \
+                                                             Rows) const;                                  \
+  template std::vector<std::array<double, 3>> Model<D>::displacements(Rows) const;                         \
+  template std::vector<double> Model<D>::radii(Rows) const;                                                \
+  template std::vector<std::uint32_t> Model<D>::ids(Rows) const;                                           \
+  template std::vector<std::uint8_t> Model<D>::bond_counts() const;                                        \
+  template std::vector<float> Model<D>::damage(Rows) const;                                                \
+  template std::size_t Model<D>::memory_bytes() const;                                                     \
   template std::size_t Model<D>::streamed_bytes_per_step() const;
 STRATA_DEM_INSTANTIATE(2)
 STRATA_DEM_INSTANTIATE(3)

@@ -58,13 +58,13 @@ struct ForceHistory {
 /// (pair-law table, id lookup cache, thread plan, cross-pair slots) is derived from it.
 struct StateRefs {
   int dim = 0;
-  std::array<std::vector<double>*, 3> x{}, v{}, x0{};  // first `dim` used
+  std::array<aligned_vector<double>*, 3> x{}, v{}, x0{};  // first `dim` used
   ParticleConst* im = nullptr;
   ParticleConst* rad = nullptr;
   std::vector<std::uint32_t>* id = nullptr;
   std::vector<std::uint32_t>* grp = nullptr;
   std::vector<std::uint8_t>* mat = nullptr;
-  std::vector<std::uint8_t>* flags = nullptr;
+  aligned_vector<std::uint8_t>* flags = nullptr;
   PairList* bonds = nullptr;
   PairList* contacts = nullptr;
   std::vector<BcParticle>* bcp = nullptr;
@@ -298,7 +298,7 @@ class Model final : public ModelBase, public ModelData<D> {
   bool added_in_rows() const;
   void keep_rows_if_lattice();
   void reorder(const std::vector<std::uint32_t>& perm);
-  std::vector<std::array<double, 3>> pack(const std::array<std::vector<double>, D>& a, Rows rows) const;
+  std::vector<std::array<double, 3>> pack(const std::array<aligned_vector<double>, D>& a, Rows rows) const;
   std::vector<std::array<double, 3>> positions(Rows rows) const override { return pack(x, rows); }
   std::vector<std::array<double, 3>> velocities(Rows rows) const override { return pack(v, rows); }
   std::vector<std::array<double, 3>> displacements(Rows rows) const override;

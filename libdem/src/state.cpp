@@ -85,8 +85,8 @@ struct Saver {
   void scalar(const std::string& name, T& value) {
     w.put_scalar<Stored<T>>("dem/" + name, static_cast<Stored<T>>(value));
   }
-  template <typename T>
-  void vec(const std::string& name, std::vector<T>& values) {
+  template <typename T, typename A>
+  void vec(const std::string& name, std::vector<T, A>& values) {
     w.put("dem/" + name, values);
   }
   void vec(const std::string& name, detail::ParticleConst& values) { w.put("dem/" + name, values.values()); }
@@ -127,9 +127,9 @@ struct Loader {
   void scalar(const std::string& name, T& value) {
     value = static_cast<T>(r.get_scalar<Stored<T>>("dem/" + name));
   }
-  template <typename T>
-  void vec(const std::string& name, std::vector<T>& values) {
-    values = r.get<T>("dem/" + name);
+  template <typename T, typename A>
+  void vec(const std::string& name, std::vector<T, A>& values) {
+    r.get_into("dem/" + name, values);
   }
   void vec(const std::string& name, detail::ParticleConst& values) {
     values.assign(r.get<double>("dem/" + name));

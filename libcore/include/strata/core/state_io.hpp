@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -60,8 +61,8 @@ class StateWriter {
   /// Stores `count` elements of `type` from `data` under `name` (a name is written once).
   virtual void put_array(const std::string& name, StateType type, const void* data, std::size_t count) = 0;
 
-  template <typename T>
-  void put(const std::string& name, const std::vector<T>& values) {
+  template <typename T, typename A = std::allocator<T>>
+  void put(const std::string& name, const std::vector<T, A>& values) {
     static_assert(!std::is_same_v<T, bool>, "store vector<bool> as uint8");
     put_array(name, state_type_of<T>(), values.data(), values.size());
   }
@@ -91,10 +92,16 @@ class StateReader {
 
   template <typename T>
   std::vector<T> get(const std::string& name) const {
-    static_assert(!std::is_same_v<T, bool>, "read vector<bool> as uint8");
-    std::vector<T> out(count(name, state_type_of<T>()));
-    get_array(name, state_type_of<T>(), out.data(), out.size());
+    std::vector<T> out;
+    get_into(name, out);
     return out;
+  }
+  /// Like get(), into an array of any allocator.
+  template <typename T, typename A>
+  void get_into(const std::string& name, std::vector<T, A>& out) const {
+    static_assert(!std::is_same_v<T, bool>, "read vector<bool> as uint8");
+    out.resize(count(name, state_type_of<T>()));
+    get_array(name, state_type_of<T>(), out.data(), out.size());
   }
   /// Like get(), and checks the number of elements.
   template <typename T>

@@ -183,13 +183,13 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       const std::uint32_t mask = slot_mask<D>(sp, qa + i);
       HAS[i] = mask >> sp.dir & 1;
       if constexpr (kShear) {  // LatticeSlots::bond
-        const std::uint32_t lower = mask & ((1u << sp.dir) - 1u);
 #if defined(__AVX512VPOPCNTDQ__)
         // a vector population count: one instruction per lane vector
         const std::uint32_t bond =
             LatticeSlots<D>::bond(sp.soff[qa + i], static_cast<typename LatticeSlots<D>::Mask>(mask), sp.dir);
 #else
         // counted bit by bit, which vectorises without a vector population count
+        const std::uint32_t lower = mask & ((1u << sp.dir) - 1u);
         std::uint32_t bond = sp.soff[qa + i] + (lower & 1u) + (lower >> 1 & 1u) + (lower >> 2 & 1u);
         static_assert(LatticeSlots<D>::kMax == (D == 2 ? 4 : 10), "one term per lower direction");
         if constexpr (D == 3)

@@ -3,6 +3,7 @@
 // model itself (set-up, search, time step, probes, checkpoints) is libdem/src/model.hpp;
 // the kernel is in a header so that a law added from outside libdem (register_law.hpp)
 // gets a step loop compiled for it.
+#include <strata/core/aligned.hpp>
 #include <strata/dem/laws/common.hpp>
 #include <strata/dem/simulation.hpp>
 
@@ -57,7 +58,7 @@ class ParticleConst {
   /// Reorders as a[i] = a[perm[i]].
   void permute(const std::vector<std::uint32_t>& perm) {
     if (all_.empty()) return;
-    std::vector<double> out(perm.size());
+    aligned_vector<double> out(perm.size());
     for (std::size_t i = 0; i < perm.size(); ++i) out[i] = all_[perm[i]];
     all_.swap(out);
   }
@@ -68,7 +69,9 @@ class ParticleConst {
     if (!all_.empty()) all_.insert(all_.end(), count - 1, value);
     n_ += count - 1;
   }
-  std::vector<double> values() const { return all_.empty() ? std::vector<double>(n_, one_) : all_; }
+  std::vector<double> values() const {
+    return all_.empty() ? std::vector<double>(n_, one_) : std::vector<double>(all_.begin(), all_.end());
+  }
   void assign(const std::vector<double>& values) {
     all_.clear();
     n_ = 0;
@@ -78,8 +81,8 @@ class ParticleConst {
   std::size_t bytes() const { return all_.capacity() * sizeof(double); }
 
  private:
-  std::vector<double> all_;
-  std::vector<double> fill_;  // kBlock copies of the one value (block())
+  aligned_vector<double> all_;
+  aligned_vector<double> fill_;  // kBlock copies of the one value (block())
   double one_ = 0;
   std::size_t n_ = 0;
 };
@@ -470,7 +473,7 @@ struct LatticeSlots {
   std::uint32_t off[kMax]{};  // each direction's partner offset, ascending
   /// Per particle, bit d: it owns a bond in direction d (its partner is p + off[d]). That
   /// bond's index is bonds.off[p] + the number of p's bonds in earlier directions.
-  std::vector<Mask> mask;
+  aligned_vector<Mask> mask;
   /// Forces (D per direction) and energies of the bonds a block's owners hold, per thread
   /// and direction, in a ring over the particles: direction d's has ring[d] entries, a
   /// power of two, at least off[d] + kBlock, so an owner's entry lives until its partner
@@ -480,7 +483,8 @@ struct LatticeSlots {
   std::size_t at[kMax]{};  // the entries of directions before d: sum of ring[0..d)
   std::size_t per = 0;     // the entries of all directions: one thread's
   int threads = 1;
-  std::vector<double> f, en;  // f: [thread][direction][axis][ring entry], en: [thread][direction][ring entry]
+  aligned_vector<double> f,
+      en;  // f: [thread][direction][axis][ring entry], en: [thread][direction][ring entry]
   /// The bonds' state by column and owner, [col[d]][p], and their shear histories
   /// (BondShear's 32-bit steps or wide code) by column, component and owner,
   /// [col[d]][a][p] (us_at): the bond pass reads each component of consecutive owners as one
@@ -491,8 +495,8 @@ struct LatticeSlots {
   /// length: 3 columns for 4 directions). An entry without a bond in any of its column's
   /// directions holds kIntact and zeros; the bond pass leaves every entry without a bond
   /// in the direction it computes as it was.
-  std::vector<std::uint8_t> st;
-  std::vector<std::int32_t> uq;
+  aligned_vector<std::uint8_t> st;
+  aligned_vector<std::int32_t> uq;
   bool held = false;   // st and uq hold the bonds' state
   bool ahead = false;  // ... and the bonds' own arrays are behind it
   /// The bond of owner p in direction d (bit d of mask[p] set), given p's first bond.
@@ -568,10 +572,11 @@ struct ModelData {
   static constexpr int kNs = kNsOf<D>;
 
   // ---- particle arrays -----------------------------------------------------------------
-  std::array<std::vector<double>, D> x, v, x0;
+  std::array<aligned_vector<double>, D> x, v, x0;
   ParticleConst im, rad;  // inverse mass (1/kg), radius (m)
   std::vector<std::uint32_t> id, grp;
-  std::vector<std::uint8_t> mat, flags;  // flags bit 0: particle has a boundary condition
+  std::vector<std::uint8_t> mat;
+  aligned_vector<std::uint8_t> flags;  // flags bit 0: particle has a boundary condition
   PairList bonds, contacts;
   BondShear<kNs> bond_us;       // the bonds' shear histories (empty when the model keeps none)
   std::vector<BcParticle> bcp;  // sorted by index
