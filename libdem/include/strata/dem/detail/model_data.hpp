@@ -483,8 +483,8 @@ struct LatticeSlots {
   std::size_t at[kMax]{};  // the entries of directions before d: sum of ring[0..d)
   std::size_t per = 0;     // the entries of all directions: one thread's
   int threads = 1;
-  aligned_vector<double> f,
-      en;  // f: [thread][direction][axis][ring entry], en: [thread][direction][ring entry]
+  // f: [thread][direction][axis][ring entry], en: [thread][direction][ring entry]
+  aligned_vector<double> f, en;
   /// The bonds' state by column and owner, [col[d]][p], and their shear histories
   /// (BondShear's 32-bit steps or wide code) by column, component and owner,
   /// [col[d]][a][p] (us_at): the bond pass reads each component of consecutive owners as one
