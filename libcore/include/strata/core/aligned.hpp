@@ -1,9 +1,9 @@
 #pragma once
 /// Arrays whose first element starts a cache line. The DEM step reads and writes its particle
-/// and bond arrays as whole vectors of up to 64 bytes, from indices that are multiples of the
-/// vector's length (a block's first particle, a chunk's first bond): starting at a cache line,
-/// each such vector lies in one line. With the allocator's default alignment (16 bytes for
-/// large arrays) every 64-byte vector spans two lines and costs two accesses.
+/// and bond arrays as whole vectors of up to 64 bytes, most of them from a block's first
+/// particle on (a multiple of 256): starting at a cache line, each such vector lies in one
+/// line. With the allocator's default alignment (16 bytes for large arrays) every 64-byte
+/// vector spans two lines and costs two accesses.
 #include <boost/align/aligned_allocator.hpp>
 
 #include <cstddef>

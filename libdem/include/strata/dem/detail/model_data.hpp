@@ -324,7 +324,7 @@ struct Wall {
 };
 
 /// Per-block accumulators (padded to a cache line).
-struct alignas(64) BlockAcc {
+struct alignas(kCacheLine) BlockAcc {
   double work = 0;        // prescribed motion, applied forces, walls (accumulated)
   double work_ex = 0;     // the part of work on exchange axes (coupling, accumulated)
   double dissipated = 0;  // damping (accumulated)
@@ -405,7 +405,7 @@ struct Plan {
   std::vector<std::vector<CrossWait>> waits;  // per thread, in block order
   /// Per thread, a cache line apart: the cross pairs it has computed since the plan was
   /// built, calc.size() per step; `epoch` counts the steps begun.
-  static constexpr std::size_t kFlagStride = 8;
+  static constexpr std::size_t kFlagStride = kCacheLine / sizeof(std::int64_t);
   std::vector<std::int64_t> done;
   std::int64_t epoch = 0;
   /// Thread u's count of computed cross pairs, shared between threads.
