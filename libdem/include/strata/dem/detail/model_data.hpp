@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace strata::dem::detail {
@@ -512,6 +513,21 @@ struct LatticeSlots {
   static constexpr std::uint32_t kGap = 16;
   std::vector<std::uint32_t> run;
   std::size_t run_at[kMax + 1]{};
+  /// Direction d's runs from the first that ends past owner lo on (a pointer to its begin),
+  /// and the end of d's runs.
+  std::pair<const std::uint32_t*, const std::uint32_t*> runs_from(int d, std::uint32_t lo) const {
+    const std::uint32_t* rb = run.data() + run_at[d];
+    const std::uint32_t* rend = run.data() + run_at[d + 1];
+    std::ptrdiff_t first = 0, hi = (rend - rb) / 2;  // ends are the odd entries, ascending
+    while (first < hi) {
+      const std::ptrdiff_t mid = (first + hi) / 2;
+      if (rb[2 * mid + 1] <= lo)
+        first = mid + 1;
+      else
+        hi = mid;
+    }
+    return {rb + 2 * first, rend};
+  }
   /// The entry of owner p's bond in direction d in st, of n particles.
   std::size_t entry(int d, std::size_t p, std::size_t n) const {
     return static_cast<std::size_t>(col[d]) * n + p;

@@ -632,23 +632,13 @@ class Engine final : public LawEngine<D> {
       sp.slow_seen = &any_slow;
       // the runs of owners with a bond in this direction (LatticeSlots::run); the entries
       // between them are not computed, as a stand-in's would be dropped
-      const std::uint32_t* rb = L.run.data() + L.run_at[d];
-      const std::uint32_t* rend = L.run.data() + L.run_at[d + 1];
       const auto ua = static_cast<std::uint32_t>(p0), ul = static_cast<std::uint32_t>(pl),
                  ub = static_cast<std::uint32_t>(pb);
-      // the first run that ends past pl: ends are the odd entries, ascending
-      std::ptrdiff_t first = 0, hi = (rend - rb) / 2;
-      while (first < hi) {
-        const std::ptrdiff_t mid = (first + hi) / 2;
-        if (rb[2 * mid + 1] <= ul)
-          first = mid + 1;
-        else
-          hi = mid;
-      }
-      std::uint32_t done = ul - ua;  // the entries up to the end of the last run
+      const auto [rf, rend] = L.runs_from(d, ul);  // from the first run that ends past pl
+      std::uint32_t done = ul - ua;                // the entries up to the end of the last run
       const bool cross = lo > 0;
       if (cross) std::fill_n(sslow, len, std::uint8_t{0});  // verdicts of the entries left out
-      for (const std::uint32_t* rr = rb + 2 * first; rr < rend && rr[0] < ub; rr += 2) {
+      for (const std::uint32_t* rr = rf; rr < rend && rr[0] < ub; rr += 2) {
         std::uint32_t qa = std::max(rr[0], ul) - ua;
         std::uint32_t qb = std::min(rr[1], ub) - ua;
         if (cross) {
@@ -664,7 +654,7 @@ class Engine final : public LawEngine<D> {
           // the rate
           const std::uint32_t pad = (kRunLanes - (qb - qa) % kRunLanes) % kRunLanes;
           qa = std::max(done, qa >= pad ? qa - pad : 0u);
-          if (rr == rb + 2 * first && (qa > 0 || qb < len))
+          if (rr == rf && (qa > 0 || qb < len))
             std::fill_n(sslow, len, std::uint8_t{0});  // verdicts of the entries left out
         }
         done = qb;
@@ -819,15 +809,28 @@ class Engine final : public LawEngine<D> {
         if constexpr (D == 3) F2[q] += masked(sign * R2[q], on);
       }
     };
-    auto pass = [&](int d, std::ptrdiff_t shift, bool own) {
-      // owners p - shift >= 0; their ring entries wrap at most once over a block
-      std::size_t qa = static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, shift - p0));
-      while (qa < nb) {
+    // entries q in [qa, qe), split where their owners' ring entries wrap (at most once over
+    // a block)
+    auto span = [&](int d, std::size_t qa, std::size_t qe, std::ptrdiff_t shift, bool own) {
+      while (qa < qe) {
         const std::size_t r =
             L.slot(d, static_cast<std::size_t>(p0 - shift + static_cast<std::ptrdiff_t>(qa)));
-        const std::size_t qb = std::min(nb, qa + (L.ring[d] - r));
+        const std::size_t qb = std::min(qe, qa + (L.ring[d] - r));
         apply(d, qa, qb, shift, own);
         qa = qb;
+      }
+    };
+    // the owners p - shift (>= 0) within direction d's runs (LatticeSlots::run): an owner
+    // outside them has no bond in d, whose term would be +0
+    auto pass = [&](int d, std::ptrdiff_t shift, bool own) {
+      const std::ptrdiff_t olo = std::max<std::ptrdiff_t>(0, p0 - shift), ohi = pe - shift;
+      if (ohi <= olo) return;
+      const auto [rf, rend] = L.runs_from(d, static_cast<std::uint32_t>(olo));
+      for (const std::uint32_t* rr = rf; rr < rend && std::ptrdiff_t{rr[0]} < ohi; rr += 2) {
+        const std::ptrdiff_t a = std::max<std::ptrdiff_t>(rr[0], olo),
+                             b = std::min<std::ptrdiff_t>(rr[1], ohi);
+        span(d, static_cast<std::size_t>(a + shift - p0), static_cast<std::size_t>(b + shift - p0), shift,
+             own);
       }
     };
     for (int d = L.n - 1; d >= 0; --d) pass(d, static_cast<std::ptrdiff_t>(L.off[d]), false);
