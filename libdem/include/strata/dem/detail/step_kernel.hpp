@@ -820,11 +820,18 @@ class Engine final : public LawEngine<D> {
         qa = qb;
       }
     };
-    // the owners p - shift (>= 0) within direction d's runs (LatticeSlots::run): an owner
-    // outside them has no bond in d, whose term would be +0
+    // the owners p - shift (>= 0); in 3D only those within direction d's runs
+    // (LatticeSlots::run): an owner outside them has no bond in d, whose term would be +0. A
+    // block lies in one layer, so about half the directions into the next layer (the other
+    // kind of layer's) have no run in it. In 2D, where every direction has runs in nearly
+    // every block, finding them cost more than the entries it skipped.
     auto pass = [&](int d, std::ptrdiff_t shift, bool own) {
       const std::ptrdiff_t olo = std::max<std::ptrdiff_t>(0, p0 - shift), ohi = pe - shift;
       if (ohi <= olo) return;
+      if constexpr (D == 2) {
+        span(d, static_cast<std::size_t>(olo + shift - p0), nb, shift, own);
+        return;
+      }
       const auto [rf, rend] = L.runs_from(d, static_cast<std::uint32_t>(olo));
       for (const std::uint32_t* rr = rf; rr < rend && std::ptrdiff_t{rr[0]} < ohi; rr += 2) {
         const std::ptrdiff_t a = std::max<std::ptrdiff_t>(rr[0], olo),
