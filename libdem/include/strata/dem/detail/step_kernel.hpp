@@ -830,14 +830,14 @@ class Engine final : public LawEngine<D> {
       if (ohi <= olo) return;
       if constexpr (D == 2) {
         span(d, static_cast<std::size_t>(olo + shift - p0), nb, shift, own);
-        return;
-      }
-      const auto [rf, rend] = L.runs_from(d, static_cast<std::uint32_t>(olo));
-      for (const std::uint32_t* rr = rf; rr < rend && std::ptrdiff_t{rr[0]} < ohi; rr += 2) {
-        const std::ptrdiff_t a = std::max<std::ptrdiff_t>(rr[0], olo),
-                             b = std::min<std::ptrdiff_t>(rr[1], ohi);
-        span(d, static_cast<std::size_t>(a + shift - p0), static_cast<std::size_t>(b + shift - p0), shift,
-             own);
+      } else {
+        const auto [rf, rend] = L.runs_from(d, static_cast<std::uint32_t>(olo));
+        for (const std::uint32_t* rr = rf; rr < rend && std::ptrdiff_t{rr[0]} < ohi; rr += 2) {
+          const std::ptrdiff_t a = std::max<std::ptrdiff_t>(rr[0], olo),
+                               b = std::min<std::ptrdiff_t>(rr[1], ohi);
+          span(d, static_cast<std::size_t>(a + shift - p0), static_cast<std::size_t>(b + shift - p0), shift,
+               own);
+        }
       }
     };
     for (int d = L.n - 1; d >= 0; --d) pass(d, static_cast<std::ptrdiff_t>(L.off[d]), false);
