@@ -72,13 +72,13 @@ struct LinearElasticLaw {
   dem::PairStiffness stiffness() const { return {kn, ks}; }
 
   // Reference kernel: one pair, one step. st: the pair's state byte; un: overlap (m,
-  // compression positive); us: shear displacement (NS components, 1 in 2D, 3 in 3D),
-  // already turned into the current tangent plane; dus: this step's increment of it.
+  // compression positive); us: shear displacement (NS components, 1 in 2D, 3 in 3D), the
+  // stored one plus this step's increment, turned into the current tangent plane; dus:
+  // the increment alone (this law does not need it).
   template <int NS>
-  dem::PairOutcome<NS> apply(std::uint8_t& st, double un, double* us, const double* dus) const {
+  dem::PairOutcome<NS> apply(std::uint8_t& st, double un, double* us, const double* /*dus*/) const {
     dem::PairOutcome<NS> o;
     if ((st & ps::kKindMask) == ps::kIntact) {
-      for (int a = 0; a < NS; ++a) us[a] += dus[a];
       o.fn = kn * un;
       for (int a = 0; a < NS; ++a) o.fs[a] = ks * us[a];
       return o;

@@ -38,7 +38,7 @@ struct LinearSpringLaw {
   LinearSpringLaw scaled(double f) const { return {kn * f, ks * f}; }
   PairStiffness stiffness() const { return {kn, ks}; }
   template <int NS>
-  PairOutcome<NS> apply(std::uint8_t& st, double un, double* us, const double* dus) const {
+  PairOutcome<NS> apply(std::uint8_t& st, double un, double* us, const double* /*dus*/) const {
     PairOutcome<NS> o;
     if ((st & ps::kKindMask) != ps::kIntact && un <= 0) {
       for (int a = 0; a < NS; ++a) us[a] = 0;
@@ -46,7 +46,6 @@ struct LinearSpringLaw {
       return o;
     }
     if ((st & ps::kKindMask) != ps::kIntact) st |= ps::kTouching;
-    for (int a = 0; a < NS; ++a) us[a] += dus[a];
     o.fn = kn * un;
     for (int a = 0; a < NS; ++a) o.fs[a] = ks * us[a];
     return o;

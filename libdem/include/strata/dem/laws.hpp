@@ -21,7 +21,10 @@
 ///    shear increment);
 ///  - the reference kernel `template <int NS> PairOutcome<NS> apply(st, un, us, dus) const`
 ///    and `template <int NS> double energy(st, un, us) const`, NS = 1 in 2D, 3 in 3D; it
-///    handles every kind of pair (intact and broken bonds, never-bonded contacts);
+///    handles every kind of pair (intact and broken bonds, never-bonded contacts). `us`
+///    arrives as the stored shear displacement plus this step's increment, turned into the
+///    current tangent plane (as the batch form's BondLane::us); `dus` is the increment
+///    alone, for a law that needs it (a law that forgets Us sets `us` to zero);
 ///  - optionally the batch form `template <int NS, bool kBroken, bool kEnergy>
 ///    BondLaneResult<NS> lane(const BondLane<NS>&) const` for the bond pass: `apply` and
 ///    `energy` for one bond without branches (selects), giving the same bits; without it

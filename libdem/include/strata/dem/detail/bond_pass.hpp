@@ -245,7 +245,7 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
     // 32-bit steps, or for a wide bond (kBroken only) in its entry. Without a shear history
     // every law's Ks is zero, and a law's force, verdict and energy then do not depend on Us
     // (laws.hpp): Us stays zero and the ends' velocities are not read.
-    double us[3] = {0, 0, 0};  // the stored Us, turned, plus this step's increment
+    double us[3] = {0, 0, 0};  // the stored Us plus this step's increment, turned
     double u2 = 0;
     if constexpr (kShear) {
       double b[kNs];
@@ -268,13 +268,14 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       if constexpr (D == 2) {
         us[0] = b[0] + ((V1[j] - V1[p]) * n0 - (V0[j] - V0[p]) * n1) * dt;
       } else {
-        const double du0 = (V0[j] - V0[p]) * dt, du1 = (V1[j] - V1[p]) * dt, du2 = (V2[j] - V2[p]) * dt;
-        const double dun = du0 * n0 + du1 * n1 + du2 * n2;
-        const double b0 = b[0], b1 = b[1], b2 = b[kNs - 1];
-        const double usn = b0 * n0 + b1 * n1 + b2 * n2;
-        us[0] = (b0 - usn * n0) + (du0 - dun * n0);
-        us[1] = (b1 - usn * n1) + (du1 - dun * n1);
-        us[2] = (b2 - usn * n2) + (du2 - dun * n2);
+        // the stored Us plus the increment, its normal part projected out (as the reference
+        // kernel, pair_force)
+        const double w0 = b[0] + (V0[j] - V0[p]) * dt, w1 = b[1] + (V1[j] - V1[p]) * dt,
+                     w2 = b[kNs - 1] + (V2[j] - V2[p]) * dt;
+        const double wn = w0 * n0 + w1 * n1 + w2 * n2;
+        us[0] = w0 - wn * n0;
+        us[1] = w1 - wn * n1;
+        us[2] = w2 - wn * n2;
       }
       for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
     }

@@ -48,7 +48,7 @@ template <int NS>
 struct BondLane {
   std::int64_t st = 0;  ///< state byte, widened to 64 bits (vector lanes of doubles)
   double un = 0;        ///< normal overlap Un (m), compression positive
-  double us[NS]{};      ///< stored Us turned into the current tangent plane plus this step's increment
+  double us[NS]{};      ///< stored Us plus this step's increment, turned into the current tangent plane
   double u2 = 0;        ///< |us|², summed over the components in order
   double kf = 1;        ///< stiffness factor of an intact bond given as data (1 otherwise)
   double sf = 1;        ///< strength factor of an intact bond given as data (1 otherwise)

@@ -59,19 +59,16 @@ struct SolidLatticeLaw {
   }
 
   /// Reference kernel: advances one pair by one step. `st` state byte, `un` normal overlap
-  /// now, `us` the NS shear displacement components (already turned into the current
-  /// tangent plane by the caller), `dus` this step's tangential displacement increment.
+  /// now, `us` the NS shear displacement components: the stored ones plus this step's
+  /// tangential displacement increment, turned into the current tangent plane by the
+  /// caller. This law does not need the increment alone (`dus`).
   template <int NS>
-  inline PairOutcome<NS> apply(std::uint8_t& st, double un, double* us, const double* dus) const {
+  inline PairOutcome<NS> apply(std::uint8_t& st, double un, double* us, const double* /*dus*/) const {
     using namespace pair_state;
     PairOutcome<NS> o;
-    bool added = false;
     if ((st & kKindMask) == kIntact) [[likely]] {
       double fs2 = 0;
-      for (int a = 0; a < NS; ++a) {
-        us[a] += dus[a];
-        fs2 += us[a] * us[a];
-      }
+      for (int a = 0; a < NS; ++a) fs2 += us[a] * us[a];
       fs2 *= ks * ks;
       const double fn = kn * un;
       const double lim = intact_shear_limit(fn);
@@ -83,7 +80,6 @@ struct SolidLatticeLaw {
       // Tension is checked first: a bond over both limits breaks in tension.
       o.broke = fn < -fn_max ? 1 : 2;
       st = static_cast<std::uint8_t>((st & ~kKindMask) | (o.broke == 1 ? kBrokenTension : kBrokenShear));
-      added = true;
       if (un > 0) st |= kTouching;
     }
     // Broken bond or contact: friction only.
@@ -98,10 +94,7 @@ struct SolidLatticeLaw {
       if (st & kSeparated) st |= kReclosed;
     }
     double fs2 = 0;
-    for (int a = 0; a < NS; ++a) {
-      if (!added) us[a] += dus[a];
-      fs2 += us[a] * us[a];
-    }
+    for (int a = 0; a < NS; ++a) fs2 += us[a] * us[a];
     fs2 *= ks * ks;
     o.fn = kn * un;
     const double cap = mu * o.fn;
