@@ -277,7 +277,10 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
         us[1] = w1 - wn * n1;
         us[2] = w2 - wn * n2;
       }
-      for (int a = 0; a < kNs; ++a) u2 += us[a] * us[a];
+      // from the first square, not from 0 + it: a square is never -0, so the same bits, and
+      // an addition fewer (GCC keeps 0 + x, which is not x for x = -0)
+      u2 = us[0] * us[0];
+      for (int a = 1; a < kNs; ++a) u2 += us[a] * us[a];
     }
     Geo g{{n0, n1, n2}, un, {us[0], us[1], us[2]}, u2};
     return g;
@@ -307,8 +310,11 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       std::uint32_t bond = k0 + static_cast<std::uint32_t>(qa + i);
       if constexpr (kInSlots) bond = static_cast<std::uint32_t>(BI[i]);
       const std::uint32_t bits = BondShear<kNs>::dither_bits(bond, salt);
+      // +0 where the bond is not held in steps, by a mask on the value: with a select GCC 12
+      // rounded and converted both the value and 0 and chose between the two results
+      const std::int64_t whole = -in32;  // all ones: held in steps
       for (int a = 0; a < kNs; ++a)
-        QN[a][i] = BondShear<kNs>::steps_of(in32 != 0 ? NU[a][i] * inv : 0.0, bits, a);
+        QN[a][i] = BondShear<kNs>::steps_of(masked(NU[a][i] * inv, whole), bits, a);
     }
     // (in slots the pass takes only the entries whose partner is in range)
     std::int64_t fast = (kInSlots || J[i] < ee64) & done & held;
@@ -351,13 +357,15 @@ template <int D, class Law, bool kEnergy, Rest kRest, bool kBroken, bool kShear,
       keep(i, b.u2, o.st, o.done);
     }
     const double n0 = g.n[0], n1 = g.n[1], n2 = g.n[2];
+    // −Fn·n + Fs as the reference kernel has it; in 3D written Fs − Fn·n, which is the same
+    // operation (b − a is b + (−a), bit for bit) without negating Fn first
     if constexpr (D == 2) {
       F0[q] = -o.fn * n0 - o.fs[0] * n1;
       F1[q] = -o.fn * n1 + o.fs[0] * n0;
     } else {
-      F0[q] = -o.fn * n0 + o.fs[0];
-      F1[q] = -o.fn * n1 + o.fs[1];
-      F2[q] = -o.fn * n2 + o.fs[2];
+      F0[q] = o.fs[0] - o.fn * n0;
+      F1[q] = o.fs[1] - o.fn * n1;
+      F2[q] = o.fs[2] - o.fn * n2;
     }
     if constexpr (kEnergy) EN[q] = o.energy;
   };
