@@ -65,6 +65,7 @@ TEST(CliCompare, ASceneAgainstItselfHasNoError) {
   EXPECT_TRUE(fs::exists(d / "out" / "compare.csv"));
   EXPECT_TRUE(fs::exists(d / "out" / "compare.md"));
   EXPECT_TRUE(fs::exists(d / "out" / "runs" / "reference" / "probes.csv"));
+  fs::remove_all(d);
 }
 
 TEST(CliCompare, ErrorOfAScaledLoadIsTheScale) {
@@ -83,6 +84,7 @@ TEST(CliCompare, ErrorOfAScaledLoadIsTheScale) {
   EXPECT_NEAR(row["gauge_errors"]["mid"].get<double>(), 0.1, 1e-3);
   EXPECT_NEAR(row["error"].get<double>(), 0.1, 1e-3);
   EXPECT_NE(r.output.find("| scene | 105 | 0 | 400 |"), std::string::npos) << r.output;
+  fs::remove_all(d);
 }
 
 TEST(CliCompare, CoupledTunnelAgainstAllParticlesWithARefusedEta) {
@@ -108,6 +110,7 @@ TEST(CliCompare, CoupledTunnelAgainstAllParticlesWithARefusedEta) {
   int lines = 0;
   while (std::getline(csv, line)) ++lines;
   EXPECT_EQ(lines, 4);  // the header, the reference, eta = 2 and eta = 3
+  fs::remove_all(d);
 }
 
 TEST(CliCompare, ScenesWithoutGaugesAreRefused) {
@@ -118,4 +121,5 @@ TEST(CliCompare, ScenesWithoutGaugesAreRefused) {
   EXPECT_EQ(r.status, 2) << r.output;
   EXPECT_NE(r.output.find("records no gauges"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(d / "out" / "compare.csv"));
+  fs::remove_all(d);
 }

@@ -203,4 +203,5 @@ steps = 2
     EXPECT_GT(j["fem_elements"].get<std::size_t>(), 10u) << geo;
     EXPECT_GT(j["fem_nodes"].get<std::size_t>(), 10u) << geo;
   }
+  fs::remove_all(d);
 }
