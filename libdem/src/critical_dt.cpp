@@ -144,17 +144,20 @@ void Model<D>::compute_critical_dt() {
   auto chunk_end = [&](std::size_t c) { return std::min(N, (c + 1) * chunk); };
   std::vector<std::vector<Term>> later(nc);  // terms of each chunk's pairs that reach later chunks
   std::vector<std::size_t> pairs_in(nc, 0);
+  // (each chunk's count, largest values and sums in locals, stored once at its end)
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     const auto cu = static_cast<std::size_t>(c);
     const std::size_t hi = chunk_end(cu);
+    std::size_t count = 0;
     for (std::size_t p = cu * chunk; p < hi; ++p)
       stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
-        ++pairs_in[cu];
+        ++count;
         if (j < hi) return;
         Term t{j, {}};
         upper(pp, j, k, t);
         later[cu].push_back(t);
       });
+    pairs_in[cu] = count;
   });
   std::vector<std::vector<Term>> incoming(nc);  // by receiving chunk, in owner order
   for (const auto& terms : later)
@@ -175,27 +178,31 @@ void Model<D>::compute_critical_dt() {
     for (const Term& t : incoming[cu])
       for (int e = 0; e < kSym; ++e) S[std::size_t{t.j} * kSym + e] += t.k[e];
     std::size_t next_later = 0;  // the terms the first pass formed, in the same pair order
-    auto pair_lower = [&](std::size_t pp, std::uint32_t j, const Term& t) {
+    double pair_max = 0, bound_max = 0;
+    double mp = 0;  // the owner's mass, 1 / im[p]
+    auto pair_lower = [&](std::uint32_t j, const Term& t) {
       float kd = 0;
       for (int a = 0, e = 0; a < D; e += D - a, ++a) kd = std::max(kd, t.k[e]);  // diagonal: e = a(2D−a+1)/2
-      chunk_pair[cu] = std::max(chunk_pair[cu], 4.0 * double(kd) / (1.0 / im[pp] + 1.0 / im[j]));
+      pair_max = std::max(pair_max, 4.0 * double(kd) / (mp + 1.0 / im[j]));
     };
-    for (std::size_t p = lo; p < hi; ++p)
+    for (std::size_t p = lo; p < hi; ++p) {
+      mp = 1.0 / im[p];
       stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
         if (j >= hi) {
           const Term& t = later[cu][next_later++];
           for (int e = 0; e < kSym; ++e) S[pp * kSym + e] += t.k[e];
-          pair_lower(pp, j, t);
+          pair_lower(j, t);
           return;
         }
         Term t{j, {}};
         upper(pp, j, k, t);
-        pair_lower(pp, j, t);
+        pair_lower(j, t);
         for (int e = 0; e < kSym; ++e) {
           S[pp * kSym + e] += t.k[e];
           S[std::size_t{j} * kSym + e] += t.k[e];
         }
       });
+    }
     for (std::size_t i = lo; i < hi; ++i) {
       Eigen::Matrix<double, D, D> M;
       int e = 0;
@@ -203,8 +210,10 @@ void Model<D>::compute_critical_dt() {
         for (int b2 = a; b2 < D; ++b2, ++e) M(a, b2) = M(b2, a) = S[i * kSym + e];
       const double lm = Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>>(M, Eigen::EigenvaluesOnly)
                             .eigenvalues()(D - 1);
-      chunk_bound[cu] = std::max(chunk_bound[cu], 2 * lm * im[i] * (1 + 1e-5));
+      bound_max = std::max(bound_max, 2 * lm * im[i] * (1 + 1e-5));
     }
+    chunk_pair[cu] = pair_max;
+    chunk_bound[cu] = bound_max;
   });
   std::size_t npairs = 0, stored = 0;
   for (std::size_t c = 0; c < nc; ++c) npairs += pairs_in[c], stored += later[c].size();
@@ -300,7 +309,9 @@ double Model<D>::layer_mode_quotient() const {
   // mode out towards its surface, where particles miss neighbours (in single precision: any
   // vector gives a lower bound; the sums are in double)
   const std::size_t nc = (N + kChunkP - 1) / kChunkP;
-  std::vector<float> u(N);
+  std::vector<float> u;
+  par::reserve_paged(u, N);  // (first writes on all threads: par::page_in)
+  u.resize(N);
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     for (std::size_t i = std::size_t(c) * kChunkP; i < std::min(N, std::size_t(c + 1) * kChunkP); ++i) {
       double w = std::llround((x[D - 1][i] - lo[D - 1] - d) / h) % 2 == 0 ? 1.0 : -1.0;
@@ -311,16 +322,19 @@ double Model<D>::layer_mode_quotient() const {
   std::vector<double> energy(nc, 0.0), mass(nc, 0.0);
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     const auto cu = static_cast<std::size_t>(c);
+    double e = 0, m = 0;  // the chunk's sums, in the same order
     for (std::size_t p = cu * kChunkP; p < std::min(N, (cu + 1) * kChunkP); ++p) {
-      mass[cu] += double(u[p]) * u[p] / im[p];
+      m += double(u[p]) * u[p] / im[p];
       stiff_pairs_of(p, [&](std::size_t pp, std::uint32_t j, const PairStiffness& k) {
         const double du = double(u[pp]) - u[j];  // along the last axis
         if (du == 0) return;
         double nv[D];
         unit_normal(pp, j, nv);
-        energy[cu] += k.ks * du * du + (k.kn - k.ks) * nv[D - 1] * nv[D - 1] * du * du;
+        e += k.ks * du * du + (k.kn - k.ks) * nv[D - 1] * nv[D - 1] * du * du;
       });
     }
+    energy[cu] = e;
+    mass[cu] = m;
   });
   double e = 0, m = 0;
   for (std::size_t c = 0; c < nc; ++c) e += energy[c], m += mass[c];

@@ -131,7 +131,11 @@ std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>& p,
         return contacts.off.resize(contacts.off.size() + count, static_cast<std::uint32_t>(contacts.size()));
     }
   };
-  par::parallel_team(small_model() ? 1 : par::threads(), [&](int t, int team) {
+  // (threads for the size the model will have: while the model is empty, small_model() would
+  // say one)
+  const bool small_after =
+      static_cast<std::ptrdiff_t>(n1) < 2 * std::max(1, settings.min_particles_per_thread);
+  par::parallel_team(small_after ? 1 : par::threads(), [&](int t, int team) {
     for (int k = t; k < kArrays; k += team) grow(k);
   });
   im.append(count, 1.0 / mass);
@@ -147,8 +151,12 @@ std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>& p,
 // Inverse of id[]: internal index of each id.
 template <int D>
 std::vector<std::uint32_t> Model<D>::index_of_id() const {
-  std::vector<std::uint32_t> inv(n());
-  for (std::size_t i = 0; i < n(); ++i) inv[id[i]] = static_cast<std::uint32_t>(i);
+  std::vector<std::uint32_t> inv;
+  par::reserve_paged(inv, n());
+  inv.resize(n());
+  // id is a permutation: each i writes its own entry
+  for_range(static_cast<std::ptrdiff_t>(n()),
+            [&](std::ptrdiff_t i) { inv[id[i]] = static_cast<std::uint32_t>(i); });
   return inv;
 }
 
@@ -234,7 +242,9 @@ void Model<D>::sort_particles(bool rows_allowed) {
     std::sort(key.get(), key.get() + N, before);
   else
     par::sort(key.get(), key.get() + N, before);
-  std::vector<std::uint32_t> perm(N);
+  std::vector<std::uint32_t> perm;
+  par::reserve_paged(perm, N);  // (first writes on all threads: par::page_in)
+  perm.resize(N);
   for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) { perm[i] = key[i].i; });
   key.reset();
   reorder(perm);
@@ -300,6 +310,7 @@ void Model<D>::reorder(const std::vector<std::uint32_t>& perm) {
   // a[i] = a[perm[i]], gathered in parallel into `spare`, which then holds the array replaced
   // (the next gather's target: the arrays of one type share one new allocation)
   auto permute = [&](auto& a, auto& spare) {
+    par::reserve_paged(spare, a.size());
     spare.resize(a.size());
     for_range(static_cast<std::ptrdiff_t>(perm.size()), [&](std::ptrdiff_t i) { spare[i] = a[perm[i]]; });
     a.swap(spare);

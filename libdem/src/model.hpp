@@ -366,6 +366,7 @@ class Model final : public ModelBase, public ModelData<D> {
   double shear_unit() const;
   void initialise() override;
   void check_dt() override;
+  void keep_start_positions();
   void walls_changed() override {
     if (!initialised) return;
     compute_critical_dt();

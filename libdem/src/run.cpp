@@ -127,7 +127,7 @@ void Model<D>::initialise() {
   compute_critical_dt();
   ph.lap("critical time step");
   check_dt();
-  for (int a = 0; a < D; ++a) x0[a] = x[a];  // allocated after the time-step estimate's temporaries
+  keep_start_positions();  // allocated after the time-step estimate's temporaries
   // energy budget of the blow-up check: initial kinetic + stored energy
   energy_budget0 = dry_kinetic() + dry_bond_energy();
   energy_tiny = static_cast<double>(n()) * 0.5 * max_stiffness() * std::pow(1e-6 * 2 * rmax, 2);
@@ -136,6 +136,15 @@ void Model<D>::initialise() {
   ph.lap("thread plan");
   initialised = true;
   last_good = step_;
+}
+
+// x0 = x, one axis per thread: on a large model the copies' first touch of fresh memory is
+// most of the time, and runs in parallel
+template <int D>
+void Model<D>::keep_start_positions() {
+  par::parallel_team(small_model() ? 1 : std::min(par::threads(), D), [&](int t, int team) {
+    for (int a = t; a < D; a += team) x0[a] = x[a];
+  });
 }
 
 template <int D>
@@ -263,7 +272,7 @@ void Model<D>::settle(std::int64_t steps) {
     std::fill(b.dx_prev, b.dx_prev + 3, 0.0);  // held while settling: no motion to carry on
     b.w_ahead = b.w_ahead_ex = b.ke_driven = 0;
   }
-  for (int a = 0; a < D; ++a) x0[a] = x[a];
+  keep_start_positions();
   set_load_directions();  // radial loads point away from their centre as seen from x0
   for (BlockAcc& A : acc) A.work = A.work_ex = A.dissipated = 0;
   for (BreakEvent& e : events) e.step -= step_;
@@ -366,6 +375,7 @@ void Model<D>::merge_events() {
   template double Model<D>::shear_unit() const;    \
   template void Model<D>::initialise();            \
   template void Model<D>::check_dt();              \
+  template void Model<D>::keep_start_positions();  \
   template StepCtx Model<D>::step_context() const; \
   template void Model<D>::run(std::int64_t, bool); \
   template void Model<D>::settle(std::int64_t);    \

@@ -51,7 +51,9 @@ typename Model<D>::Grid Model<D>::build_grid(double h) const {
   }
   std::int64_t ncell = 1;
   for (int a = 0; a < D; ++a) ncell *= g.dims[a];
-  std::vector<std::uint32_t> cell(N);
+  std::vector<std::uint32_t> cell;
+  par::reserve_paged(cell, N);  // (first writes on all threads: par::page_in)
+  cell.resize(N);
   for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) {
     double p[3];
     for (int a = 0; a < D; ++a) p[a] = x[a][i];
@@ -60,6 +62,7 @@ typename Model<D>::Grid Model<D>::build_grid(double h) const {
   g.start.assign(static_cast<std::size_t>(ncell) + 1, 0);
   for (std::size_t i = 0; i < N; ++i) g.start[cell[i] + 1]++;
   for (std::int64_t c = 0; c < ncell; ++c) g.start[c + 1] += g.start[c];
+  par::reserve_paged(g.list, N);
   g.list.resize(N);
   std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
   for (std::size_t i = 0; i < N; ++i) g.list[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
@@ -120,7 +123,10 @@ std::array<PairList, kLists> Model<D>::build_pairs(const Grid& g, Classify&& cla
   constexpr std::size_t kChunk = 1024;
   const std::size_t N = n(), nc = (N + kChunk - 1) / kChunk;
   std::array<PairList, kLists> L;
-  for (PairList& l : L) l.off.assign(N + 1, 0);
+  for (PairList& l : L) {
+    par::reserve_paged(l.off, N + 1);
+    l.off.assign(N + 1, 0);
+  }
   std::vector<std::array<std::vector<std::uint32_t>, kLists>> part(nc);
   const std::array<double, D + 1>* at = g.at.get();
   const std::uint32_t* list = g.list.data();
@@ -158,6 +164,7 @@ std::array<PairList, kLists> Model<D>::build_pairs(const Grid& g, Classify&& cla
   });
   for (PairList& l : L) {
     for (std::size_t i = 0; i < N; ++i) l.off[i + 1] += l.off[i];
+    par::reserve_paged(l.j, l.off[N]);
     l.j.resize(l.off[N]);
   }
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
@@ -211,6 +218,7 @@ void Model<D>::bond_touching_pairs(double tol) {
     });
     L = std::move(found[0]);
   }
+  par::reserve_paged(L.st, L.size());
   L.st.assign(L.size(), pair_state::kIntact);
   bonds = std::move(L);
   bond_us.clear();  // zero histories: initialise() sizes them
@@ -277,6 +285,7 @@ void Model<D>::set_bonds(const std::vector<std::uint32_t>& bi, const std::vector
     L.sf[k] = strength.empty() ? 1.0 : strength[o];
   }
   for (std::size_t i = 0; i < N; ++i) L.off[i + 1] += L.off[i];
+  par::reserve_paged(L.st, L.size());
   L.st.assign(L.size(), pair_state::kIntact);
   bonds = std::move(L);
   bond_us.clear();  // zero histories: initialise() sizes them
@@ -536,10 +545,12 @@ void Model<D>::build_plan(int nt) {
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
+    par::reserve_paged(bond_owner, bonds.size());
     bond_owner.resize(bonds.size());
-    for (std::size_t p = 0; p < N; ++p)
+    for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
       for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
         bond_owner[k] = static_cast<std::uint8_t>(p % kBlock);
+    });
   }
   bond_owner.shrink_to_fit();
   pend_slot.assign(static_cast<std::size_t>(nb * (kBlock / kSlot)), -1);

@@ -6,6 +6,7 @@
 #include <strata/core/error.hpp>
 #include <strata/core/log.hpp>
 #include <strata/core/numbers.hpp>
+#include <strata/core/parallel.hpp>
 #include <strata/preprocess/ecc.hpp>
 #include <strata/preprocess/fill.hpp>
 #include <strata/preprocess/geometry.hpp>
@@ -15,6 +16,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <random>
 #include <set>
 
@@ -548,8 +550,10 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
     if (g.count == 0) continue;  // a group of FEM nodes only
     if (g.region >= 0) {         // a region's own group: its ids [first_id, first_id + count)
       const RegionSites& s = d.sites[std::size_t(g.region)];
-      std::vector<std::uint32_t> ids(g.count);
-      for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = s.first_id + std::uint32_t(i);
+      std::vector<std::uint32_t> ids;
+      par::reserve_paged(ids, g.count);  // (first writes on all threads: par::page_in)
+      ids.resize(g.count);
+      std::iota(ids.begin(), ids.end(), s.first_id);
       sim.add_to_group(ids, g.name);
     } else {
       sim.add_to_group(g.ids, g.name);

@@ -181,12 +181,15 @@ class RunOutput {
     time_.push_back(m.time());
     if (particles_on_) {
       const auto& s = m.sim();
-      row.insert(row.end(), {s.kinetic_energy(), s.bond_energy(), s.external_work(), s.damping_dissipation(),
+      // each energy once: where the last step did not sum them (at step 0, say), each is a
+      // pass over every pair
+      const double kinetic = s.kinetic_energy(), bond = s.bond_energy(), work = s.external_work();
+      row.insert(row.end(), {kinetic, bond, work, s.damping_dissipation(),
                              double(s.broken_count(dem::BreakMode::Tension)),
                              double(s.broken_count(dem::BreakMode::Shear)), double(s.contact_count())});
-      kinetic_.push_back(s.kinetic_energy());
-      bond_.push_back(s.bond_energy());
-      work_.push_back(s.external_work());
+      kinetic_.push_back(kinetic);
+      bond_.push_back(bond);
+      work_.push_back(work);
     }
     if (network_on_) {
       const double e = m.network().energy();

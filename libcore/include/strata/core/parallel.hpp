@@ -93,6 +93,24 @@ void parallel_team(int nthreads, F&& f) {
   f(0, 1);
 }
 
+/// Pages in the storage [p, p + bytes) on all threads before its first write. A process's
+/// first write to a page makes the kernel find and clear one (in a virtual machine the host
+/// may back it first): on a large model that is most of the time of filling a fresh array,
+/// and it runs at the speed of the one thread that writes. Linux's MADV_POPULATE_WRITE,
+/// each thread over its share of the pages, and nothing where the kernel lacks it or for
+/// less than 64 MiB (the first writes then page it in as before). The contents are
+/// unchanged: fresh pages read as zeros either way.
+void page_in(void* p, std::size_t bytes);
+
+/// v.reserve(n), the new storage paged in on all threads (page_in): the resize or assign
+/// that follows then writes memory that is already there.
+template <class V>
+void reserve_paged(V& v, std::size_t n) {
+  if (n <= v.capacity()) return;
+  v.reserve(n);
+  page_in(v.data(), n * sizeof(typename V::value_type));
+}
+
 /// Sorts [first, last) by `less` on all threads (libstdc++'s parallel mode where strata is
 /// built with OpenMP, std::sort otherwise). The order is the same for any thread count only
 /// when `less` is a total order (no two items equivalent): sort by a key and a unique index.
