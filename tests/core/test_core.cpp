@@ -4,7 +4,10 @@
 #include <strata/core/numbers.hpp>
 #include <strata/core/parallel.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <numeric>
 
 using namespace strata;
 
@@ -68,6 +71,27 @@ TEST(Parallel, RangesCoverEveryIndexOnce) {
     });
     for (int h : hits) ASSERT_EQ(h, 1);
   }
+  par::set_threads(0);
+}
+
+TEST(Parallel, PagingInKeepsTheContents) {
+  par::set_threads(2);
+  // a range above page_in's 64 MiB, not on page boundaries: its whole pages are paged in, and
+  // every byte, inside them or not, keeps its value
+  std::vector<unsigned char> bytes(std::size_t{80} << 20, 0xa5);
+  par::page_in(bytes.data() + 1, bytes.size() - 2);
+  EXPECT_EQ(std::count(bytes.begin(), bytes.end(), 0xa5), std::ptrdiff_t(bytes.size()));
+  // reserve_paged: the elements there are kept, the size too; the storage grows, and what a
+  // resize then adds is value-initialised as ever
+  std::vector<std::uint32_t> v(1000);
+  std::iota(v.begin(), v.end(), 7u);
+  const std::size_t n = std::size_t{20} << 20;  // 80 MiB of elements
+  par::reserve_paged(v, n);
+  EXPECT_EQ(v.size(), 1000u);
+  EXPECT_GE(v.capacity(), n);
+  for (std::size_t i = 0; i < v.size(); ++i) ASSERT_EQ(v[i], 7u + i);
+  v.resize(n);
+  EXPECT_EQ(std::count(v.begin() + 1000, v.end(), 0u), std::ptrdiff_t(n - 1000));
   par::set_threads(0);
 }
 
