@@ -310,8 +310,7 @@ double Model<D>::layer_mode_quotient() const {
   // vector gives a lower bound; the sums are in double)
   const std::size_t nc = (N + kChunkP - 1) / kChunkP;
   std::vector<float> u;
-  par::reserve_paged(u, N);  // (first writes on all threads: par::page_in)
-  u.resize(N);
+  par::resize_paged(u, N);  // (first writes on all threads: par::page_in)
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     for (std::size_t i = std::size_t(c) * kChunkP; i < std::min(N, std::size_t(c + 1) * kChunkP); ++i) {
       double w = std::llround((x[D - 1][i] - lo[D - 1] - d) / h) % 2 == 0 ? 1.0 : -1.0;

@@ -133,9 +133,7 @@ std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>& p,
   };
   // (threads for the size the model will have: while the model is empty, small_model() would
   // say one)
-  const bool small_after =
-      static_cast<std::ptrdiff_t>(n1) < 2 * std::max(1, settings.min_particles_per_thread);
-  par::parallel_team(small_after ? 1 : par::threads(), [&](int t, int team) {
+  par::parallel_team(small_model(n1) ? 1 : par::threads(), [&](int t, int team) {
     for (int k = t; k < kArrays; k += team) grow(k);
   });
   im.append(count, 1.0 / mass);
@@ -152,8 +150,7 @@ std::size_t Model<D>::add_particles(const std::vector<std::array<double, 3>>& p,
 template <int D>
 std::vector<std::uint32_t> Model<D>::index_of_id() const {
   std::vector<std::uint32_t> inv;
-  par::reserve_paged(inv, n());
-  inv.resize(n());
+  par::resize_paged(inv, n());
   // id is a permutation: each i writes its own entry
   for_range(static_cast<std::ptrdiff_t>(n()),
             [&](std::ptrdiff_t i) { inv[id[i]] = static_cast<std::uint32_t>(i); });
@@ -243,8 +240,7 @@ void Model<D>::sort_particles(bool rows_allowed) {
   else
     par::sort(key.get(), key.get() + N, before);
   std::vector<std::uint32_t> perm;
-  par::reserve_paged(perm, N);  // (first writes on all threads: par::page_in)
-  perm.resize(N);
+  par::resize_paged(perm, N);  // (first writes on all threads: par::page_in)
   for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) { perm[i] = key[i].i; });
   key.reset();
   reorder(perm);
@@ -310,8 +306,7 @@ void Model<D>::reorder(const std::vector<std::uint32_t>& perm) {
   // a[i] = a[perm[i]], gathered in parallel into `spare`, which then holds the array replaced
   // (the next gather's target: the arrays of one type share one new allocation)
   auto permute = [&](auto& a, auto& spare) {
-    par::reserve_paged(spare, a.size());
-    spare.resize(a.size());
+    par::resize_paged(spare, a.size());
     for_range(static_cast<std::ptrdiff_t>(perm.size()), [&](std::ptrdiff_t i) { spare[i] = a[perm[i]]; });
     a.swap(spare);
   };

@@ -256,8 +256,10 @@ class Model final : public ModelBase, public ModelData<D> {
 
   /// Small models stay on one thread in set-up loops (a parallel region costs more than it
   /// saves there, and much more on a loaded machine).
-  bool small_model() const {
-    return static_cast<std::ptrdiff_t>(n()) <
+  bool small_model() const { return small_model(n()); }
+  /// The same for a model of `count` particles (one about to be that size).
+  bool small_model(std::size_t count) const {
+    return static_cast<std::ptrdiff_t>(count) <
            2 * static_cast<std::ptrdiff_t>(std::max(1, settings.min_particles_per_thread));
   }
 

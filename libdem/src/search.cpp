@@ -52,8 +52,7 @@ typename Model<D>::Grid Model<D>::build_grid(double h) const {
   std::int64_t ncell = 1;
   for (int a = 0; a < D; ++a) ncell *= g.dims[a];
   std::vector<std::uint32_t> cell;
-  par::reserve_paged(cell, N);  // (first writes on all threads: par::page_in)
-  cell.resize(N);
+  par::resize_paged(cell, N);  // (first writes on all threads: par::page_in)
   for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t i) {
     double p[3];
     for (int a = 0; a < D; ++a) p[a] = x[a][i];
@@ -62,8 +61,7 @@ typename Model<D>::Grid Model<D>::build_grid(double h) const {
   g.start.assign(static_cast<std::size_t>(ncell) + 1, 0);
   for (std::size_t i = 0; i < N; ++i) g.start[cell[i] + 1]++;
   for (std::int64_t c = 0; c < ncell; ++c) g.start[c + 1] += g.start[c];
-  par::reserve_paged(g.list, N);
-  g.list.resize(N);
+  par::resize_paged(g.list, N);
   std::vector<std::uint32_t> fill(g.start.begin(), g.start.end() - 1);
   for (std::size_t i = 0; i < N; ++i) g.list[fill[cell[i]]++] = static_cast<std::uint32_t>(i);
   g.at.reset(new std::array<double, D + 1>[N]);  // first written (and paged in) in parallel
@@ -164,8 +162,7 @@ std::array<PairList, kLists> Model<D>::build_pairs(const Grid& g, Classify&& cla
   });
   for (PairList& l : L) {
     for (std::size_t i = 0; i < N; ++i) l.off[i + 1] += l.off[i];
-    par::reserve_paged(l.j, l.off[N]);
-    l.j.resize(l.off[N]);
+    par::resize_paged(l.j, l.off[N]);
   }
   for_chunks(static_cast<std::ptrdiff_t>(nc), [&](std::ptrdiff_t c) {
     for (int l = 0; l < kLists; ++l) {
@@ -545,8 +542,7 @@ void Model<D>::build_plan(int nt) {
   uniform_diameter = N > 0 && rad.uniform() ? 2 * rad[0] : 0.0;
   bond_owner.clear();
   if (bond_us.empty()) {  // no shear history: owners kept (ModelData::bond_owner)
-    par::reserve_paged(bond_owner, bonds.size());
-    bond_owner.resize(bonds.size());
+    par::resize_paged(bond_owner, bonds.size());
     for_range(static_cast<std::ptrdiff_t>(N), [&](std::ptrdiff_t p) {
       for (std::uint32_t k = bonds.off[p]; k < bonds.off[p + 1]; ++k)
         bond_owner[k] = static_cast<std::uint8_t>(p % kBlock);

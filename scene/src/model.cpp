@@ -551,8 +551,7 @@ void populate_particles(const Scene& sc, ModelDescription& d, dem::Simulation& s
     if (g.region >= 0) {         // a region's own group: its ids [first_id, first_id + count)
       const RegionSites& s = d.sites[std::size_t(g.region)];
       std::vector<std::uint32_t> ids;
-      par::reserve_paged(ids, g.count);  // (first writes on all threads: par::page_in)
-      ids.resize(g.count);
+      par::resize_paged(ids, g.count);  // (first writes on all threads: par::page_in)
       std::iota(ids.begin(), ids.end(), s.first_id);
       sim.add_to_group(ids, g.name);
     } else {

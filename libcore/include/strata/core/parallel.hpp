@@ -111,6 +111,13 @@ void reserve_paged(V& v, std::size_t n) {
   page_in(v.data(), n * sizeof(typename V::value_type));
 }
 
+/// v.resize(n), the new storage paged in on all threads first (reserve_paged).
+template <class V>
+void resize_paged(V& v, std::size_t n) {
+  reserve_paged(v, n);
+  v.resize(n);
+}
+
 /// Sorts [first, last) by `less` on all threads (libstdc++'s parallel mode where strata is
 /// built with OpenMP, std::sort otherwise). The order is the same for any thread count only
 /// when `less` is a total order (no two items equivalent): sort by a key and a unique index.
